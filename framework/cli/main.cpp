@@ -1,0 +1,170 @@
+// stratum: the command-line front end.
+//
+//   stratum run SCENE.toml [--out DIR] [--verbose]
+//   stratum check SCENE.toml
+//   stratum plugins [--describe NAME]
+//   stratum --version
+//
+// Errors are one line on stderr and a non-zero exit code.
+#include "stratum/analysis.hpp"
+#include "stratum/plugin.hpp"
+#include "stratum/plugin_loader.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace stratum;
+
+constexpr const char* usage = "usage: stratum run SCENE.toml [--out DIR] [--verbose]\n"
+                              "       stratum check SCENE.toml\n"
+                              "       stratum plugins [--describe NAME]\n"
+                              "       stratum --version\n";
+
+constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,
+                                PluginKind::solver};
+
+void describe(const Registry& reg, PluginKind kind, const std::string& name, bool full) {
+  std::string summary, library;
+  const Schema& s = reg.schema(kind, name, &summary, &library);
+  std::cout << to_string(kind) << " " << name << ": " << summary << "\n";
+  if (full) std::cout << "  library: " << library << "\n";
+  for (const auto& p : s.specs()) {
+    std::cout << "  " << std::left << std::setw(18) << p.name << " " << std::setw(8) << to_string(p.type) << " "
+              << std::setw(7) << (p.unit.empty() ? "-" : p.unit) << " " << p.allowed();
+    if (p.fallback) {
+      std::ostringstream d;
+      std::visit(
+          [&](const auto& v) {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, std::vector<double>>) {
+              d << "[";
+              for (std::size_t i = 0; i < v.size(); ++i) d << (i ? ", " : "") << v[i];
+              d << "]";
+            } else if constexpr (std::is_same_v<T, bool>) {
+              d << (v ? "true" : "false");
+            } else if constexpr (std::is_same_v<T, std::string>) {
+              d << '"' << v << '"';
+            } else {
+              d << v;
+            }
+          },
+          *p.fallback);
+      std::cout << ", default " << d.str();
+    } else {
+      std::cout << ", required";
+    }
+    std::cout << "\n      " << p.meaning << "\n";
+  }
+}
+
+int plugins(const std::vector<std::string>& args) {
+  PluginCatalog catalog(PluginCatalog::default_directories());
+  Registry reg;
+  catalog.require_all(reg);
+  if (args.size() >= 2 && args[0] == "--describe") {
+    for (PluginKind k : kinds)
+      if (reg.has(k, args[1])) {
+        describe(reg, k, args[1], true);
+        return 0;
+      }
+    std::string known;
+    for (PluginKind k : kinds)
+      for (const auto& n : reg.names(k)) known += (known.empty() ? "" : ", ") + n;
+    throw Error("unknown plugin '" + args[1] + "'; known: " + known);
+  }
+  if (!args.empty()) throw Error("plugins: unexpected argument '" + args[0] + "'; allowed: --describe NAME");
+  for (PluginKind k : kinds)
+    for (const auto& n : reg.names(k)) describe(reg, k, n, false);
+  return 0;
+}
+
+int run(const std::vector<std::string>& args, bool check_only) {
+  std::string scene, out;
+  bool verbose = false;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--out" && !check_only) {
+      if (i + 1 >= args.size()) throw Error("--out needs a directory");
+      out = args[++i];
+    } else if (args[i] == "--verbose" && !check_only) {
+      verbose = true;
+    } else if (!args[i].empty() && args[i][0] == '-') {
+      throw Error("unknown option '" + args[i] + "'; allowed: --out DIR, --verbose (see stratum --help)");
+    } else if (scene.empty()) {
+      scene = args[i];
+    } else {
+      throw Error("more than one scene file given ('" + scene + "', '" + args[i] + "')");
+    }
+  }
+  if (scene.empty()) throw Error("no scene file given (see stratum --help)");
+  RunOptions opts;
+  opts.out_dir = out;
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  opts.on_step = [&](int step, int steps, double lambda, const StepReport& rep) {
+    if (verbose) {
+      std::cerr << "step " << step << " lambda " << lambda << " iterations " << rep.iterations << " |R|:";
+      for (double r : rep.residual_norms) std::cerr << " " << r;
+      std::cerr << "\n";
+    } else if (tty) {
+      std::cerr << "\rstep " << step << "/" << steps << "  load factor " << std::fixed << std::setprecision(4) << lambda
+                << "  iterations " << rep.iterations << std::defaultfloat << std::flush;
+    }
+  };
+  auto analysis = Analysis::from_file(scene, opts);
+  if (check_only) {
+    const auto& m = analysis->model();
+    std::cout << scene << ": ok (" << m.mesh.nodes.size() << " nodes, " << m.mesh.cells.size() << " cells, "
+              << m.dofs.free_count << " unknowns, " << analysis->opened_libraries().size() << " plugin libraries)\n";
+    return 0;
+  }
+  const RunSummary s = analysis->run();
+  if (tty && !verbose) std::cerr << "\n";
+  if (!s.outcome.ok()) {
+    std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message << "\n";
+    return 2;
+  }
+  std::cout << "done: " << s.steps_done << " steps";
+  if (s.cutbacks) std::cout << " (" << s.cutbacks << " cut-backs)";
+  std::cout << "\n";
+  if (!s.pvd.empty()) std::cout << "results: " << s.pvd << "\n";
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  try {
+    if (args.empty()) {
+      std::cerr << usage;
+      return 1;
+    }
+    const std::string cmd = args[0];
+    std::vector<std::string> rest(args.begin() + 1, args.end());
+    if (cmd == "--version" || cmd == "version") {
+      std::cout << "stratum " << STRATUM_VERSION << " (plugin ABI " << STRATUM_PLUGIN_ABI_VERSION << ")\n";
+      return 0;
+    }
+    if (cmd == "run") return run(rest, false);
+    if (cmd == "check") return run(rest, true);
+    if (cmd == "plugins") return plugins(rest);
+    if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+      std::cout << usage;
+      return 0;
+    }
+    throw Error("unknown command '" + cmd + "'; allowed: run, check, plugins, --version");
+  } catch (const stratum::Error& e) {
+    std::cerr << "stratum: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "stratum: internal error: " << e.what() << "\n";
+    return 3;
+  }
+}

@@ -1,0 +1,63 @@
+// From a scene file to results: read and validate the TOML, open the plugins
+// the scene names, build the model, run the load steps, write the output.
+//
+// Everything that can be wrong with the input is found by prepare() (what
+// `stratum check` runs) before any step is solved.
+#pragma once
+
+#include "stratum/model.hpp"
+#include "stratum/plugin_loader.hpp"
+#include "stratum/registry.hpp"
+#include "stratum/solver.hpp"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+struct RunOptions {
+  std::string out_dir;                   ///< empty: results/<scene stem> under the working directory
+  std::vector<std::string> plugin_dirs;  ///< empty: PluginCatalog::default_directories()
+  bool write_output = true;              ///< false: solve only (tests, benchmarks)
+  /// Called after every accepted step (progress line, verbose diagnostics); may be empty.
+  std::function<void(int step, int steps, double lambda, const StepReport&)> on_step;
+};
+
+struct RunSummary {
+  Outcome outcome;
+  int steps_done = 0;
+  int cutbacks = 0;
+  std::vector<StepReport> reports;
+  std::string pvd;         ///< the .pvd collection written ("" when no output)
+  std::string out_dir;
+};
+
+class Analysis {
+public:
+  /// Reads, validates and builds everything. Throws Error (with file:line:col) on bad input.
+  static std::unique_ptr<Analysis> from_file(const std::string& path, RunOptions options = {});
+  /// The same from TOML text; `path` names it in messages and anchors relative paths.
+  static std::unique_ptr<Analysis> from_string(const std::string& text, const std::string& path,
+                                               RunOptions options = {});
+  ~Analysis();
+
+  /// Runs all load steps. Numerical failure comes back in the summary, never as an exception;
+  /// an exception means an environment problem (e.g. an unwritable output directory).
+  RunSummary run();
+
+  [[nodiscard]] const Model& model() const;
+  [[nodiscard]] Model& model();
+  /// Libraries opened for this scene.
+  [[nodiscard]] std::vector<std::string> opened_libraries() const;
+  [[nodiscard]] std::string title() const;
+
+  struct Impl;
+
+private:
+  explicit Analysis(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace stratum

@@ -1,0 +1,61 @@
+// The Material interface: a constitutive law of one integration point.
+//
+// A Material object holds parameters only; all history lives in the framework's
+// StateStore. update() is const and pure: from the committed state and a strain
+// increment it computes the trial stress, history and tangent. Numerical trouble
+// is returned as an Outcome (never printed, never thrown); the step driver cuts
+// the step back.
+//
+// Units: stress in kPa, strains dimensionless. Tension positive, Voigt order and
+// engineering shear as in voigt.hpp.
+#pragma once
+
+#include "stratum/error.hpp"
+#include "stratum/voigt.hpp"
+
+#include <span>
+
+namespace stratum {
+
+/// Where the point sits, for messages only.
+struct PointContext {
+  int element = -1; ///< global element index
+  int point = -1;   ///< integration point within the element
+};
+
+/// Input of one update: the committed state at t_n and the total strain increment.
+struct MaterialInput {
+  const Vec6& stress_n;
+  const Vec6& strain_n;
+  std::span<const double> history_n;
+  const Vec6& dstrain;
+  PointContext where;
+};
+
+/// Output of one update; the caller provides the storage.
+struct MaterialOutput {
+  Vec6& stress;                 ///< trial stress at t_{n+1}
+  std::span<double> history;    ///< trial history at t_{n+1} (write all of it)
+  Mat6& tangent;                ///< d stress / d strain (consistent where the model has one)
+};
+
+class Material {
+public:
+  virtual ~Material() = default;
+
+  /// Number of history doubles per point (besides stress and strain, which the framework keeps).
+  [[nodiscard]] virtual int history_size() const { return 0; }
+  /// Initial history of a virgin point at the given initial stress.
+  virtual void init_history(const Vec6& /*stress*/, std::span<double> history) const {
+    for (double& h : history) h = 0.0;
+  }
+  /// True when stress = D strain with a constant D: elements may then reuse their stiffness.
+  [[nodiscard]] virtual bool is_linear() const { return false; }
+  /// True when the tangent is symmetric (chooses Cholesky over LU).
+  [[nodiscard]] virtual bool symmetric_tangent() const { return true; }
+
+  /// The constitutive update. Must fill out.stress, out.history and out.tangent.
+  [[nodiscard]] virtual Outcome update(const MaterialInput& in, MaterialOutput& out) const = 0;
+};
+
+} // namespace stratum

@@ -1,0 +1,85 @@
+// The assembled model of a scene: mesh, DOF map, element domains with their
+// state stores, loads and constraints. Built by the scene reader, edited by
+// stage actions, read by the assembler and the writers.
+#pragma once
+
+#include "stratum/element.hpp"
+#include "stratum/linear_solver.hpp"
+#include "stratum/mesh.hpp"
+#include "stratum/state_store.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+/// Two DOFs per node (x, y; axisymmetric r, z). eq[2 * node + c] >= 0 is the
+/// index of a free unknown, eq < 0 is prescribed index (-1 - eq).
+struct DofMap {
+  static constexpr int per_node = 2;
+  std::vector<int> eq;
+  std::vector<int> prescribed; ///< global DOF of each prescribed index
+  int free_count = 0;
+
+  /// `fixed[d]` marks prescribed global DOFs (nodes no active cell uses are fixed too).
+  void build(const std::vector<char>& fixed);
+  [[nodiscard]] int total() const { return static_cast<int>(eq.size()); }
+};
+
+/// Cells of one element kind and one constitutive law, with the states of their points.
+struct Domain {
+  std::string name;                      ///< for messages and output
+  int set_id = 0;                        ///< written as cell data "set_id"
+  const Element* element = nullptr;
+  Constitutive law;
+  std::vector<int> cells;                ///< global cell indices
+  std::vector<std::size_t> first_point;  ///< per cell, index of its first point in `states`; size cells + 1
+  StateStore states;
+};
+
+struct Model {
+  Formulation formulation = Formulation::axisymmetric;
+  Mesh mesh;
+  std::vector<Domain> domains;
+  DofMap dofs;
+  Eigen::VectorXd load_ref;     ///< full-size external load at load factor 1 (kN)
+  Eigen::VectorXd prescribed;   ///< full-size prescribed displacement at load factor 1 (m)
+  Eigen::VectorXd u;            ///< full-size committed displacement (m)
+  Eigen::VectorXd reactions;    ///< full-size internal force at the last converged state (kN)
+  double lambda = 0.0;          ///< committed load factor
+
+  /// Present nodes of a cell in slot order, and their coordinates.
+  void cell_nodes(int cell, std::vector<int>& nodes, Eigen::MatrixX2d& x) const;
+  /// Full-size displacement from free unknowns and the prescribed values at load factor lambda.
+  void expand(const Eigen::VectorXd& free, double lambda, Eigen::VectorXd& full) const;
+  /// Free unknowns of a full-size vector.
+  [[nodiscard]] Eigen::VectorXd restrict_free(const Eigen::VectorXd& full) const;
+  [[nodiscard]] bool symmetric() const;
+};
+
+/// Assembles internal forces and the tangent over the free DOFs. The sparsity
+/// pattern and the per-cell scatter indices are built once per model topology.
+class Assembler {
+public:
+  explicit Assembler(const Model& model);
+
+  /// The matrix with the fixed pattern (values zero) to be filled by assemble().
+  [[nodiscard]] SparseMatrix make_matrix() const { return pattern_; }
+
+  /// Evaluates every domain at the full-size trial displacement u (the committed one is
+  /// model.u): internal force (full size) and, when k != nullptr, the free-free tangent
+  /// (k must come from make_matrix()). Trial states are written.
+  [[nodiscard]] Outcome assemble(Model& model, const Eigen::VectorXd& u, Eigen::VectorXd& f_int, SparseMatrix* k) const;
+
+private:
+  SparseMatrix pattern_;
+  std::vector<std::vector<int>> scatter_; ///< per domain: concatenated per-cell (2n)^2 value indices, -1 = skip
+  std::vector<std::vector<std::size_t>> scatter_start_;
+};
+
+/// Adds consistent nodal forces of a normal pressure p (kPa, positive = pushing into the
+/// body) on the edges to f (full size). Axisymmetric: weighted with 2 pi r.
+void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f, Eigen::VectorXd& out);
+
+} // namespace stratum

@@ -1,0 +1,70 @@
+// The plugin registry: factories by kind and name, each with its schema.
+//
+// A Registry is an object handed to every plugin's entry point; there is no
+// global registry. Factories remember which library registered them, so a
+// duplicate name can name both libraries.
+#pragma once
+
+#include "stratum/contact_law.hpp"
+#include "stratum/element.hpp"
+#include "stratum/material.hpp"
+#include "stratum/params.hpp"
+#include "stratum/solver.hpp"
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+enum class PluginKind { material, element, contact_law, solver };
+[[nodiscard]] const char* to_string(PluginKind k);
+
+template <class T> struct Factory {
+  std::string name;
+  std::string summary;  ///< one line: what it is
+  Schema schema;
+  std::function<std::unique_ptr<T>(const Params&)> create;
+  std::string library;  ///< filled in by the registry
+};
+
+class Registry {
+public:
+  void add(Factory<Material> f) { add_to(materials_, PluginKind::material, std::move(f)); }
+  void add(Factory<Element> f) { add_to(elements_, PluginKind::element, std::move(f)); }
+  void add(Factory<ContactLaw> f) { add_to(contact_laws_, PluginKind::contact_law, std::move(f)); }
+  void add(Factory<Solver> f) { add_to(solvers_, PluginKind::solver, std::move(f)); }
+
+  /// Lookups throw Error listing the known names of that kind.
+  [[nodiscard]] const Factory<Material>& material(const std::string& name) const { return find(materials_, PluginKind::material, name); }
+  [[nodiscard]] const Factory<Element>& element(const std::string& name) const { return find(elements_, PluginKind::element, name); }
+  [[nodiscard]] const Factory<ContactLaw>& contact_law(const std::string& name) const { return find(contact_laws_, PluginKind::contact_law, name); }
+  [[nodiscard]] const Factory<Solver>& solver(const std::string& name) const { return find(solvers_, PluginKind::solver, name); }
+
+  [[nodiscard]] bool has(PluginKind kind, const std::string& name) const;
+  [[nodiscard]] std::vector<std::string> names(PluginKind kind) const;
+  /// Schema and summary of any factory (for `stratum plugins --describe`).
+  [[nodiscard]] const Schema& schema(PluginKind kind, const std::string& name, std::string* summary = nullptr,
+                                     std::string* library = nullptr) const;
+
+  /// The library whose entry point is running (set by the loader around stratum_register).
+  void set_current_library(std::string path) { current_library_ = std::move(path); }
+
+  /// Extra text appended to "unknown name" messages (e.g. the plugin search path).
+  std::string unknown_hint;
+
+private:
+  template <class T> void add_to(std::map<std::string, Factory<T>>& m, PluginKind kind, Factory<T> f);
+  template <class T>
+  const Factory<T>& find(const std::map<std::string, Factory<T>>& m, PluginKind kind, const std::string& name) const;
+
+  std::map<std::string, Factory<Material>> materials_;
+  std::map<std::string, Factory<Element>> elements_;
+  std::map<std::string, Factory<ContactLaw>> contact_laws_;
+  std::map<std::string, Factory<Solver>> solvers_;
+  std::string current_library_ = "(built in)";
+};
+
+} // namespace stratum

@@ -1,0 +1,51 @@
+// VTK XML output: one .vtu per output step (mesh, displacement, cell data), one
+// .vtp point cloud of the integration points, and .pvd collections that
+// ParaView opens as time series. Every file is written to a temporary name in
+// the same directory and renamed, so a reader never sees a half-written file.
+#pragma once
+
+#include "stratum/mesh.hpp"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+/// A named array: `components` values per tuple, tuples contiguous.
+struct Field {
+  std::string name;
+  int components = 1;
+  std::vector<double> values;
+};
+
+/// What one output step contains.
+struct OutputStep {
+  double time = 0.0;                 ///< stage time / load factor shown by ParaView
+  const Mesh* mesh = nullptr;
+  std::vector<int> cells;            ///< the cells to write (active cells)
+  std::vector<Field> point_fields;   ///< one tuple per mesh node (e.g. "displacement", 3 comps)
+  std::vector<Field> cell_fields;    ///< one tuple per written cell (e.g. "stress", "set_id")
+  Eigen::MatrixX2d ip_coords;        ///< integration points (rows)
+  std::vector<Field> ip_fields;      ///< one tuple per integration point
+};
+
+/// Writes <dir>/<stem>_<k>.vtu and <dir>/<stem>_ip_<k>.vtp for k = 0, 1, ... and keeps
+/// <dir>/<stem>.pvd and <dir>/<stem>_ip.pvd up to date after every step.
+/// Cells: 4-node quads as VTK_QUAD, 8-node as VTK_QUADRATIC_QUAD, 5-7-node transition
+/// quads as VTK_POLYGON through corners and midside nodes in boundary order.
+class VtkSeriesWriter {
+public:
+  VtkSeriesWriter(std::string directory, std::string stem);
+  /// Throws Error when a file cannot be written.
+  void write(const OutputStep& step);
+  [[nodiscard]] std::string pvd_path() const;
+  [[nodiscard]] int steps_written() const { return static_cast<int>(times_.size()); }
+
+private:
+  std::string dir_, stem_;
+  std::vector<double> times_;
+};
+
+} // namespace stratum

@@ -1,0 +1,95 @@
+#include "stratum/registry.hpp"
+
+namespace stratum {
+
+const char* to_string(PluginKind k) {
+  switch (k) {
+  case PluginKind::material: return "material";
+  case PluginKind::element: return "element";
+  case PluginKind::contact_law: return "contact_law";
+  case PluginKind::solver: return "solver";
+  }
+  return "?";
+}
+
+template <class T> void Registry::add_to(std::map<std::string, Factory<T>>& m, PluginKind kind, Factory<T> f) {
+  if (f.name.empty()) throw Error(current_library_ + ": a " + std::string(to_string(kind)) + " factory has no name");
+  if (!f.create) throw Error(current_library_ + ": " + to_string(kind) + " '" + f.name + "' has no create function");
+  auto it = m.find(f.name);
+  if (it != m.end())
+    throw Error(std::string("duplicate ") + to_string(kind) + " '" + f.name + "': registered by " + it->second.library +
+                " and again by " + current_library_);
+  f.library = current_library_;
+  std::string name = f.name;
+  m.emplace(std::move(name), std::move(f));
+}
+
+template <class T>
+const Factory<T>& Registry::find(const std::map<std::string, Factory<T>>& m, PluginKind kind,
+                                 const std::string& name) const {
+  auto it = m.find(name);
+  if (it != m.end()) return it->second;
+  std::string known;
+  for (const auto& [n, f] : m) known += (known.empty() ? "" : ", ") + n;
+  throw Error(std::string("unknown ") + to_string(kind) + " '" + name + "'; known: " +
+              (known.empty() ? "(none)" : known) + unknown_hint);
+}
+
+template void Registry::add_to(std::map<std::string, Factory<Material>>&, PluginKind, Factory<Material>);
+template void Registry::add_to(std::map<std::string, Factory<Element>>&, PluginKind, Factory<Element>);
+template void Registry::add_to(std::map<std::string, Factory<ContactLaw>>&, PluginKind, Factory<ContactLaw>);
+template void Registry::add_to(std::map<std::string, Factory<Solver>>&, PluginKind, Factory<Solver>);
+template const Factory<Material>& Registry::find(const std::map<std::string, Factory<Material>>&, PluginKind,
+                                                 const std::string&) const;
+template const Factory<Element>& Registry::find(const std::map<std::string, Factory<Element>>&, PluginKind,
+                                                const std::string&) const;
+template const Factory<ContactLaw>& Registry::find(const std::map<std::string, Factory<ContactLaw>>&, PluginKind,
+                                                   const std::string&) const;
+template const Factory<Solver>& Registry::find(const std::map<std::string, Factory<Solver>>&, PluginKind,
+                                               const std::string&) const;
+
+namespace {
+template <class T> std::vector<std::string> keys(const std::map<std::string, Factory<T>>& m) {
+  std::vector<std::string> v;
+  for (const auto& [n, f] : m) v.push_back(n);
+  return v;
+}
+} // namespace
+
+bool Registry::has(PluginKind kind, const std::string& name) const {
+  switch (kind) {
+  case PluginKind::material: return materials_.count(name) != 0;
+  case PluginKind::element: return elements_.count(name) != 0;
+  case PluginKind::contact_law: return contact_laws_.count(name) != 0;
+  case PluginKind::solver: return solvers_.count(name) != 0;
+  }
+  return false;
+}
+
+std::vector<std::string> Registry::names(PluginKind kind) const {
+  switch (kind) {
+  case PluginKind::material: return keys(materials_);
+  case PluginKind::element: return keys(elements_);
+  case PluginKind::contact_law: return keys(contact_laws_);
+  case PluginKind::solver: return keys(solvers_);
+  }
+  return {};
+}
+
+const Schema& Registry::schema(PluginKind kind, const std::string& name, std::string* summary,
+                               std::string* library) const {
+  auto fill = [&](const auto& f) -> const Schema& {
+    if (summary) *summary = f.summary;
+    if (library) *library = f.library;
+    return f.schema;
+  };
+  switch (kind) {
+  case PluginKind::material: return fill(material(name));
+  case PluginKind::element: return fill(element(name));
+  case PluginKind::contact_law: return fill(contact_law(name));
+  case PluginKind::solver: return fill(solver(name));
+  }
+  throw Error("unknown plugin kind");
+}
+
+} // namespace stratum

@@ -1,0 +1,161 @@
+#include "toml_check.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+namespace stratum::io {
+
+SourceLocation location(const toml::source_region& r) {
+  return {r.path ? *r.path : std::string(), static_cast<int>(r.begin.line), static_cast<int>(r.begin.column)};
+}
+
+SourceLocation location(const toml::node& n) { return location(n.source()); }
+
+std::string show(const toml::node& n) {
+  if (n.is_table()) return "{...}";
+  std::ostringstream o;
+  if (auto a = n.as_array()) {
+    o << '[';
+    for (std::size_t i = 0; i < a->size(); ++i) o << (i ? ", " : "") << show(*a->get(i));
+    o << ']';
+    return o.str();
+  }
+  n.visit([&](const auto& v) {
+    if constexpr (toml::is_string<decltype(v)>) {
+      o << '"' << v.get() << '"';
+    } else if constexpr (toml::is_floating_point<decltype(v)>) {
+      char buf[64];
+      auto r = std::to_chars(buf, buf + sizeof buf, v.get()); // shortest form that reads back exactly
+      o << std::string_view(buf, static_cast<std::size_t>(r.ptr - buf));
+    } else if constexpr (toml::is_integer<decltype(v)> || toml::is_boolean<decltype(v)>) {
+      o << v;
+    } else {
+      o << "(value)";
+    }
+  });
+  return o.str();
+}
+
+const char* type_name(const toml::node& n) {
+  switch (n.type()) {
+  case toml::node_type::string: return "a string";
+  case toml::node_type::integer: return "an integer";
+  case toml::node_type::floating_point: return "a number";
+  case toml::node_type::boolean: return "a boolean";
+  case toml::node_type::array: return "an array";
+  case toml::node_type::table: return "a table";
+  default: return "a date or time";
+  }
+}
+
+namespace {
+
+std::string expected(const ParamSpec& s) {
+  switch (s.type) {
+  case ParamType::real: return "a number";
+  case ParamType::integer: return "an integer";
+  case ParamType::boolean: return "true or false";
+  case ParamType::text: return "a string";
+  case ParamType::real_list: return "an array of numbers";
+  }
+  return "?";
+}
+
+[[noreturn]] void wrong_type(const toml::node& v, const std::string& ctx, const ParamSpec& s) {
+  throw Error(location(v), ctx + " " + s.name + " = " + show(v) + " has the wrong type: expected " + expected(s) +
+                               ", got " + type_name(v));
+}
+
+} // namespace
+
+Params check_table(const toml::table& table, const Schema& schema, const std::string& context,
+                   const std::vector<std::string_view>& extra) {
+  for (auto&& [key, value] : table) {
+    const std::string k(key.str());
+    bool ok = schema.find(k) != nullptr;
+    for (auto e : extra) ok = ok || e == k;
+    if (!ok) {
+      std::string allowed;
+      for (auto e : extra) allowed += (allowed.empty() ? "" : ", ") + std::string(e);
+      for (const auto& s : schema.specs()) allowed += (allowed.empty() ? "" : ", ") + s.name;
+      throw Error(location(key.source()), context + " unknown key '" + k + "'; allowed: " +
+                                              (allowed.empty() ? "(none)" : allowed));
+    }
+  }
+  Params p;
+  p.context = context;
+  for (const auto& s : schema.specs()) {
+    const toml::node* v = table.get(s.name);
+    if (!v) {
+      if (s.required())
+        throw Error(location(table), context + " missing required parameter '" + s.name + "' (" + s.meaning +
+                                         (s.unit.empty() || s.unit == "-" ? "" : ", " + s.unit) + ")");
+      p.set(s.name, *s.fallback);
+      continue;
+    }
+    const auto where = location(*v);
+    auto check_number = [&](double x) {
+      if (!std::isfinite(x) || !s.in_range(x))
+        throw Error(where, context + " " + s.name + " = " + show(*v) + " is outside " + s.allowed());
+    };
+    switch (s.type) {
+    case ParamType::real: {
+      if (!v->is_number()) wrong_type(*v, context, s);
+      const double x = v->value<double>().value();
+      check_number(x);
+      p.set(s.name, x, where);
+      break;
+    }
+    case ParamType::integer: {
+      if (!v->is_integer()) wrong_type(*v, context, s);
+      const auto x = v->as_integer()->get();
+      check_number(static_cast<double>(x));
+      p.set(s.name, static_cast<long long>(x), where);
+      break;
+    }
+    case ParamType::boolean:
+      if (!v->is_boolean()) wrong_type(*v, context, s);
+      p.set(s.name, v->as_boolean()->get(), where);
+      break;
+    case ParamType::text: {
+      if (!v->is_string()) wrong_type(*v, context, s);
+      std::string x = v->as_string()->get();
+      if (!s.choices.empty()) {
+        bool found = false;
+        for (const auto& c : s.choices) found = found || c == x;
+        if (!found)
+          throw Error(where, context + " " + s.name + " = " + show(*v) + " is not allowed; allowed: " + s.allowed());
+      }
+      p.set(s.name, std::move(x), where);
+      break;
+    }
+    case ParamType::real_list: {
+      const auto* a = v->as_array();
+      if (!a) wrong_type(*v, context, s);
+      std::vector<double> xs;
+      for (const auto& e : *a) {
+        if (!e.is_number()) wrong_type(*v, context, s);
+        const double x = e.value<double>().value();
+        if (!std::isfinite(x) || !s.in_range(x))
+          throw Error(location(e), context + " " + s.name + " contains " + show(e) + ", outside " + s.allowed());
+        xs.push_back(x);
+      }
+      p.set(s.name, std::move(xs), where);
+      break;
+    }
+    }
+  }
+  return p;
+}
+
+std::string require_string(const toml::table& table, std::string_view key, const std::string& context) {
+  const toml::node* v = table.get(key);
+  if (!v) throw Error(location(table), context + " missing required key '" + std::string(key) + "'");
+  if (!v->is_string())
+    throw Error(location(*v), context + " " + std::string(key) + " = " + show(*v) +
+                                  " has the wrong type: expected a string, got " + type_name(*v));
+  return v->as_string()->get();
+}
+
+} // namespace stratum::io

@@ -1,0 +1,191 @@
+// The program as a user runs it: bad input gives one line with file:line:col,
+// what is wrong and what is allowed, and a non-zero exit code.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+fs::path scratch() {
+  static const fs::path dir = fs::temp_directory_path() / ("stratum_cli_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// Runs stratum with the build tree's plugins; captures stdout and stderr separately.
+Result stratum(const std::string& args, const std::string& env = "") {
+  const fs::path out = scratch() / "stdout.txt", err = scratch() / "stderr.txt";
+  const std::string cmd = "cd " + scratch().string() + " && " + env + " STRATUM_PLUGIN_PATH= " + STRATUM_EXE + " " +
+                          args + " >" + out.string() + " 2>" + err.string();
+  Result r;
+  const int status = std::system(cmd.c_str());
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+std::string write_scene(const std::string& name, const std::string& text) {
+  const fs::path p = scratch() / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+const std::string good = R"([analysis]
+formulation = "axisymmetric"
+[mesh]
+generator = "blocks"
+nodes_per_cell = 8
+[[mesh.blocks]]
+name = "ring"
+x = [1.0, 2.0]
+y = [0.0, 0.5]
+nx = 4
+ny = 1
+[materials.soil]
+model = "linear_elastic"
+E = 1000.0
+nu = 0.3
+[[domains]]
+cells = "ring"
+element = "quad"
+material = "soil"
+[[constraints]]
+nodes = "bottom"
+uy = 0.0
+[[constraints]]
+nodes = "top"
+uy = 0.0
+[[loads]]
+type = "pressure"
+edges = "ring.left"
+p = 1.0
+)";
+
+/// The scene with one line replaced.
+std::string edit(const std::string& from, const std::string& to) {
+  std::string s = good;
+  const auto at = s.find(from);
+  REQUIRE(at != std::string::npos);
+  return s.replace(at, from.size(), to);
+}
+
+int lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+void expect_one_line_error(const Result& r, const std::string& location, const std::string& text) {
+  INFO("stderr: " << r.err);
+  CHECK(r.code != 0);
+  CHECK(lines(r.err) == 1);
+  CHECK(r.err.rfind("stratum: " + location, 0) == 0);
+  CHECK(r.err.find(text) != std::string::npos);
+}
+
+} // namespace
+
+TEST_CASE("cli: --version and plugins listing", "[cli]") {
+  auto v = stratum("--version");
+  CHECK(v.code == 0);
+  CHECK(v.out.rfind("stratum 0.", 0) == 0);
+
+  auto p = stratum("plugins");
+  INFO(p.err);
+  REQUIRE(p.code == 0);
+  CHECK(p.out.find("element quad:") != std::string::npos);
+  CHECK(p.out.find("material linear_elastic:") != std::string::npos);
+  CHECK(p.out.find("solver newton:") != std::string::npos);
+  // Parameters with unit, range and default are listed.
+  CHECK(std::regex_search(p.out, std::regex(R"(\n  nu +number +- +\(-1, 0\.5\))")));
+  CHECK(std::regex_search(p.out, std::regex(R"(\n  E +number +kPa +\(0, inf\), required)")));
+  CHECK(std::regex_search(p.out, std::regex(R"(\n  integration +integer +- +\[2, 4\], default 3)")));
+
+  auto d = stratum("plugins --describe quad");
+  CHECK(d.code == 0);
+  CHECK(d.out.find("library: ") != std::string::npos);
+  CHECK(d.out.find("volumetric") != std::string::npos);
+  auto u = stratum("plugins --describe nosuch");
+  expect_one_line_error(u, "", "unknown plugin 'nosuch'; known: ");
+}
+
+TEST_CASE("cli: check and run a good scene", "[cli]") {
+  const auto path = write_scene("good.toml", good);
+  auto c = stratum("check " + path);
+  INFO(c.err);
+  CHECK(c.code == 0);
+  CHECK(c.out.find(": ok (") != std::string::npos);
+  CHECK(c.out.find("3 plugin libraries") != std::string::npos);
+  auto r = stratum("run " + path + " --out " + (scratch() / "out").string());
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK(r.out.find("results: ") != std::string::npos);
+  CHECK(fs::exists(scratch() / "out" / "good.pvd"));
+  CHECK(fs::exists(scratch() / "out" / "good_1.vtu"));
+}
+
+TEST_CASE("cli: unknown key", "[cli]") {
+  const auto path = write_scene("unknown_key.toml", edit("nu = 0.3", "nu = 0.3\nmu = 0.2"));
+  expect_one_line_error(stratum("check " + path), path + ":16:1 ",
+                        "[materials.soil] unknown key 'mu'; allowed: model, ");
+}
+
+TEST_CASE("cli: wrong type", "[cli]") {
+  const auto path = write_scene("wrong_type.toml", edit("E = 1000.0", "E = \"stiff\""));
+  expect_one_line_error(stratum("check " + path), path + ":14:5 ",
+                        "[materials.soil] E = \"stiff\" has the wrong type: expected a number, got a string");
+}
+
+TEST_CASE("cli: nu out of range", "[cli]") {
+  const auto path = write_scene("nu_range.toml", edit("nu = 0.3", "nu = 0.7"));
+  expect_one_line_error(stratum("run " + path), path + ":15:6 ", "[materials.soil] nu = 0.7 is outside (");
+}
+
+TEST_CASE("cli: unknown plugin name lists the known names", "[cli]") {
+  const auto path = write_scene("unknown_plugin.toml", edit("model = \"linear_elastic\"", "model = \"elastik\""));
+  expect_one_line_error(stratum("check " + path), path + ":13:9 ",
+                        "model = \"elastik\": unknown material 'elastik'; known: linear_elastic");
+}
+
+TEST_CASE("cli: missing file", "[cli]") {
+  expect_one_line_error(stratum("run /nonexistent/scene.toml"), "/nonexistent/scene.toml ",
+                        "cannot open scene file '/nonexistent/scene.toml'");
+}
+
+TEST_CASE("cli: malformed TOML", "[cli]") {
+  const auto path = write_scene("malformed.toml", edit("nx = 4", "nx = = 4"));
+  expect_one_line_error(stratum("check " + path), path + ":10:", "malformed TOML: ");
+}
+
+TEST_CASE("cli: bad references and usage errors", "[cli]") {
+  auto p1 = write_scene("bad_set.toml", edit("edges = \"ring.left\"", "edges = \"ring.inner\""));
+  expect_one_line_error(stratum("check " + p1), p1 + ":28:9 ",
+                        "edges = \"ring.inner\" is not an edge set of the mesh; known: ");
+  auto p2 = write_scene("bad_choice.toml", edit("element = \"quad\"", "element = \"quad\"\nvolumetric = \"soft\""));
+  expect_one_line_error(stratum("check " + p2), p2 + ":19:14 ",
+                        "volumetric = \"soft\" is not allowed; allowed: one of: full, bbar, selective");
+  expect_one_line_error(stratum("frobnicate"), "", "unknown command 'frobnicate'");
+  expect_one_line_error(stratum("run"), "", "no scene file given");
+}

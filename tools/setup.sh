@@ -1,0 +1,34 @@
+# Shared set-up of tools/run, tools/test and tools/bench (sourced, not run).
+# Installs the Debian packages Stratum needs when they are missing, then
+# configures and builds the Release tree in build/release.
+set -euo pipefail
+
+STRATUM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+STRATUM_BUILD="${STRATUM_BUILD:-$STRATUM_ROOT/build/release}"
+STRATUM_PACKAGES=(cmake ninja-build g++ pkg-config libeigen3-dev libboost-dev libboost-filesystem-dev libvtk9-dev
+  libsundials-dev libtomlplusplus-dev catch2 libsuitesparse-dev libopenblas0-pthread)
+
+stratum_install_packages() {
+  local missing=()
+  for p in "${STRATUM_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if ((${#missing[@]})); then
+    echo "tools: installing ${missing[*]}" >&2
+    local sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  fi
+}
+
+stratum_build() {
+  cmake -S "$STRATUM_ROOT" -B "$STRATUM_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$STRATUM_BUILD" -j "$(nproc)"
+}
+
+# One BLAS thread: on two shared cores two threads were slower (docs/performance.md).
+export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
+
+stratum_install_packages
+stratum_build
