@@ -123,7 +123,7 @@ ElementResult evaluate_cell(const QuadElement& el, unsigned shape, const Eigen::
 /// singular values of a symmetric matrix are the magnitudes of its eigenvalues.
 std::pair<int, double> count_zero_modes(const Eigen::MatrixXd& K, double tol) {
   const Eigen::MatrixXd Ks = 0.5 * (K + K.transpose());
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(Ks).singularValues(); // descending
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd, Eigen::NoQRPreconditioner>(Ks).singularValues(); // descending
   const double lmax = sv(0);
   int zeros = 0;
   for (Eigen::Index i = 0; i < sv.size(); ++i)

@@ -108,8 +108,8 @@ Schema block_schema() {
   s.text("name", {}, "cell set name of the block; its edges become <name>.left/right/bottom/top");
   s.real_list("x", "m", "[x0, x1] extent (axisymmetric: radius)");
   s.real_list("y", "m", "[y0, y1] extent (axisymmetric: height)");
-  s.integer("nx", "-", "cells along x").at_least(1);
-  s.integer("ny", "-", "cells along y").at_least(1);
+  s.integer("nx", "-", "cells along x").at_least(1).defaults_to(1LL);
+  s.integer("ny", "-", "cells along y").at_least(1).defaults_to(1LL);
   s.real("grade_x", "-", "last/first cell size along x").greater_than(0).defaults_to(1.0);
   s.real("grade_y", "-", "last/first cell size along y").greater_than(0).defaults_to(1.0);
   return s;

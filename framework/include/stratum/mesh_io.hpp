@@ -19,8 +19,8 @@ struct Block {
   double grade_x = 1.0, grade_y = 1.0;
 };
 
-/// Builds a mesh of blocks sharing nodes where they coincide (within 1e-9 of the
-/// block size). Sets: per block "<name>" (cells) and "<name>.left" etc. (edges and
+/// Builds a mesh of blocks sharing nodes where they coincide (within 1e-9 of the whole
+/// mesh's bounding-box size). Sets: per block "<name>" (cells) and "<name>.left" etc. (edges and
 /// nodes); for the whole mesh "all" (cells) and "left", "right", "bottom", "top"
 /// (edges and nodes on the bounding box). Throws Error on bad arguments.
 [[nodiscard]] Mesh generate_blocks(const std::vector<Block>& blocks, int nodes_per_cell);
