@@ -223,51 +223,10 @@ TEST_CASE("E2 circular load on an elastic half-space: centre settlement", "[veri
   const double q = 100, a = 1, E = 1e4, nu = 0.3;
   const double w0 = 2 * q * a * (1 - nu * nu) / E;
   CHECK(w0 == Approx(0.0182).epsilon(1e-12));
-  const std::string toml = R"(
-[analysis]
-formulation = "axisymmetric"
-[mesh]
-generator = "blocks"
-nodes_per_cell = 8
-[[mesh.blocks]]
-name = "load"
-x = [0.0, 1.0]
-y = [-100.0, 0.0]
-nx = 6
-ny = 40
-grade_y = 0.005
-[[mesh.blocks]]
-name = "far"
-x = [1.0, 100.0]
-y = [-100.0, 0.0]
-nx = 30
-ny = 40
-grade_x = 200.0
-grade_y = 0.005
-[materials.soil]
-model = "linear_elastic"
-E = 1.0e4
-nu = 0.3
-[[domains]]
-cells = "all"
-element = "quad"
-material = "soil"
-[[constraints]]
-nodes = "left"
-ux = 0.0
-[[constraints]]
-nodes = "right"
-ux = 0.0
-[[constraints]]
-nodes = "bottom"
-ux = 0.0
-uy = 0.0
-[[loads]]
-type = "pressure"
-edges = "load.top"
-p = 100.0
-)";
-  auto an = scene(toml);
+  RunOptions o;
+  o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+  o.write_output = false;
+  auto an = Analysis::from_file(std::string(STRATUM_SOURCE_DIR) + "/inputs/verification/circular_load.toml", o);
   REQUIRE(an->run().outcome.ok());
   const Model& m = an->model();
   const double w = -m.u[2 * node_at(m, 0.0, 0.0) + 1];

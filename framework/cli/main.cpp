@@ -9,10 +9,12 @@
 #include "stratum/analysis.hpp"
 #include "stratum/plugin.hpp"
 #include "stratum/plugin_loader.hpp"
+#include "stratum/point_driver.hpp"
 
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -25,6 +27,7 @@ using namespace stratum;
 
 constexpr const char* usage = "usage: stratum run SCENE.toml [--out DIR] [--verbose]\n"
                               "       stratum check SCENE.toml\n"
+                              "       stratum point POINT.toml [--out FILE.csv]\n"
                               "       stratum plugins [--describe NAME]\n"
                               "       stratum --version\n";
 
@@ -83,6 +86,33 @@ int plugins(const std::vector<std::string>& args) {
   if (!args.empty()) throw Error("plugins: unexpected argument '" + args[0] + "'; allowed: --describe NAME");
   for (PluginKind k : kinds)
     for (const auto& n : reg.names(k)) describe(reg, k, n, false);
+  return 0;
+}
+
+int point(const std::vector<std::string>& args) {
+  std::string file, out;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--out") {
+      if (i + 1 >= args.size()) throw Error("--out needs a file name");
+      out = args[++i];
+    } else if (!args[i].empty() && args[i][0] == '-') {
+      throw Error("unknown option '" + args[i] + "'; allowed: --out FILE.csv");
+    } else if (file.empty()) {
+      file = args[i];
+    } else {
+      throw Error("more than one point file given ('" + file + "', '" + args[i] + "')");
+    }
+  }
+  if (file.empty()) throw Error("no point file given (see stratum --help)");
+  if (out.empty()) out = (std::filesystem::path("results") / (std::filesystem::path(file).stem().string() + ".csv")).string();
+  const auto driver = PointDriver::from_file(file);
+  const PointRun r = driver->run();
+  PointDriver::write_csv(r, out); // what was computed is kept, also after a failure
+  if (!r.outcome.ok()) {
+    std::cerr << "stratum: " << file << ": " << to_string(r.outcome.status) << ": " << r.outcome.message << "\n";
+    return 2;
+  }
+  std::cout << "done: " << r.rows.size() - 1 << " steps\nresults: " << out << "\n";
   return 0;
 }
 
@@ -155,11 +185,12 @@ int main(int argc, char** argv) {
     if (cmd == "run") return run(rest, false);
     if (cmd == "check") return run(rest, true);
     if (cmd == "plugins") return plugins(rest);
+    if (cmd == "point") return point(rest);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::cout << usage;
       return 0;
     }
-    throw Error("unknown command '" + cmd + "'; allowed: run, check, plugins, --version");
+    throw Error("unknown command '" + cmd + "'; allowed: run, check, point, plugins, --version");
   } catch (const stratum::Error& e) {
     std::cerr << "stratum: " << e.what() << "\n";
     return 1;

@@ -12,8 +12,8 @@
 #include "stratum/element.hpp"
 #include "stratum/error.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
-#include <Eigen/LU>
 
 #include <array>
 #include <numbers>
@@ -27,7 +27,8 @@ namespace stratum::quad {
 enum class Volumetric {
   full,      ///< standard displacement formulation, B at every point
   bbar,      ///< mean dilatation: volumetric strain averaged over the element (Hughes 1980)
-  selective, ///< B-bar form of selective reduced integration: volumetric strain from the (n-1)x(n-1) rule
+  selective, ///< B-bar form of selective reduced integration: volumetric strain projected onto the
+             ///< polynomials through the (n-1)x(n-1) Gauss points (Hughes 1980)
 };
 
 /// The parameters of the element kind.
@@ -36,6 +37,9 @@ struct Options {
   int integration = 3; ///< n of the n x n Gauss rule, 2..4
   Volumetric volumetric = Volumetric::full;
 };
+
+/// Largest number of points of the reduced (n-1)x(n-1) rule.
+inline constexpr int max_reduced = (max_rule - 1) * (max_rule - 1);
 
 namespace detail {
 
@@ -106,6 +110,38 @@ void strain_matrix(const PointGeometry<NN>& g, bool axisymmetric, Eigen::Matrix<
   }
 }
 
+/// K += B^T Dw B for the standard (sparse) B: column 2k of B is (dx, 0, h, dy), column
+/// 2k+1 is (0, dy, 0, dx) with h = N/r in axisymmetry and 0 in plane strain.
+template <int NN>
+void add_sparse_btdb(const PointGeometry<NN>& g, bool axisymmetric, const Eigen::Matrix4d& Dw,
+                     Eigen::Matrix<double, 2 * NN, 2 * NN>& K) {
+  const double inv_r = axisymmetric ? 1.0 / g.x : 0.0;
+  Eigen::Matrix<double, 4, 2 * NN> DB;
+  for (int k = 0; k < NN; ++k) {
+    const double dx = g.dNdx(k, 0), dy = g.dNdx(k, 1), h = g.N(k) * inv_r;
+    DB.col(2 * k) = Dw.col(0) * dx + Dw.col(2) * h + Dw.col(3) * dy;
+    DB.col(2 * k + 1) = Dw.col(1) * dy + Dw.col(3) * dx;
+  }
+  for (int k = 0; k < NN; ++k) {
+    const double dx = g.dNdx(k, 0), dy = g.dNdx(k, 1), h = g.N(k) * inv_r;
+    K.row(2 * k) += dx * DB.row(0) + h * DB.row(2) + dy * DB.row(3);
+    K.row(2 * k + 1) += dy * DB.row(1) + dx * DB.row(3);
+  }
+}
+
+/// B^T v for the standard (sparse) B and a 4-vector v.
+template <int NN>
+Eigen::Matrix<double, 2 * NN, 1> sparse_bt_times(const PointGeometry<NN>& g, bool axisymmetric, const Eigen::Vector4d& v) {
+  const double inv_r = axisymmetric ? 1.0 / g.x : 0.0;
+  Eigen::Matrix<double, 2 * NN, 1> a;
+  for (int k = 0; k < NN; ++k) {
+    const double dx = g.dNdx(k, 0), dy = g.dNdx(k, 1), h = g.N(k) * inv_r;
+    a(2 * k) = dx * v(0) + h * v(2) + dy * v(3);
+    a(2 * k + 1) = dy * v(1) + dx * v(3);
+  }
+  return a;
+}
+
 inline std::string point_message(int element, const char* what, int point) {
   return "element " + std::to_string(element) + ": " + what + " at integration point " + std::to_string(point);
 }
@@ -120,8 +156,8 @@ public:
   /// Throws stratum::Error when options.integration is not 2, 3 or 4.
   explicit QuadElement(Options options)
       : opt_(validated(options)), rule_(opt_.integration),
-        reduced_(opt_.volumetric == Volumetric::selective ? opt_.integration - 1 : 1),
-        interp_(lagrange_interpolation(opt_.integration, reduced_.order())) {}
+        interp_(lagrange_interpolation(opt_.integration,
+                                       opt_.volumetric == Volumetric::selective ? opt_.integration - 1 : 1)) {}
 
   [[nodiscard]] const Options& options() const { return opt_; }
   [[nodiscard]] bool axisymmetric() const { return opt_.formulation == Formulation::axisymmetric; }
@@ -246,39 +282,42 @@ private:
       sum /= volume;
       for (int i = 0; i < np; ++i) bbar[static_cast<std::size_t>(i)] = sum;
     } else if (opt_.volumetric == Volumetric::selective) {
-      const auto& rpts = reduced_.points(cell.shape);
-      const int nr = reduced_.size();
-      std::array<RowD, max_points> bred;
-      detail::PointGeometry<NN> g;
-      for (int l = 0; l < nr; ++l) {
-        if (!detail::evaluate<NN>(rpts[static_cast<std::size_t>(l)], X, axi, g))
-          return Outcome::failure(Status::non_finite,
-                                  detail::point_message(cell.id, bad_geometry(), l) + " of the reduced rule");
-        bred[static_cast<std::size_t>(l)] = detail::volumetric_row<NN>(g, axi);
-      }
+      // Weighted L2 projection of the volumetric rows onto the polynomials spanned by the
+      // Lagrange basis Phi through the (n-1)x(n-1) Gauss points:
+      //   M = Phi^T W Phi, C = M^-1 Phi^T W Bv, B-bar_vol = Phi C   (W = diag(dV)).
+      const int nr = static_cast<int>(interp_.cols());
+      using Stack = Eigen::Matrix<double, Eigen::Dynamic, ND, 0, max_points, ND>;
+      Stack Bv(np, ND);
+      PhiT W(nr, np);
       for (int i = 0; i < np; ++i) {
-        RowD& bi = bbar[static_cast<std::size_t>(i)];
-        bi.setZero();
-        for (int l = 0; l < nr; ++l) bi.noalias() += interp_(i, l) * bred[static_cast<std::size_t>(l)];
+        const auto& g = geo[static_cast<std::size_t>(i)];
+        Bv.row(i) = detail::volumetric_row<NN>(g, axi);
+        W.col(i) = g.dV * interp_.row(i).transpose();
       }
+      const Gram M = W * interp_;
+      const Eigen::Matrix<double, Eigen::Dynamic, ND, 0, max_reduced, ND> C = M.llt().solve(W * Bv);
+      const Stack proj = interp_ * C;
+      for (int i = 0; i < np; ++i) bbar[static_cast<std::size_t>(i)] = proj.row(i);
     }
 
     Eigen::Matrix<double, ND, 1> f = Eigen::Matrix<double, ND, 1>::Zero();
     Eigen::Matrix<double, ND, ND> K;
     if (want_tangent) K.setZero();
     BMat B;
-    Eigen::Matrix<double, 4, ND> DB;
     Vec6 strain = Vec6::Zero(), strain_n = Vec6::Zero(), dstrain, stress_n, stress;
     Mat6 tangent;
 
+    const bool modified = opt_.volumetric != Volumetric::full;
     for (int i = 0; i < np; ++i) {
       const auto& g = geo[static_cast<std::size_t>(i)];
       detail::strain_matrix<NN>(g, axi, B);
-      if (opt_.volumetric != Volumetric::full) {
-        const RowD corr = (bbar[static_cast<std::size_t>(i)] - detail::volumetric_row<NN>(g, axi)) / 3.0;
-        B.row(0) += corr;
-        B.row(1) += corr;
-        B.row(2) += corr;
+      // B-bar = B + m c with m = (1, 1, 1, 0) and c = (b-bar - b) / 3.
+      RowD c;
+      if (modified) {
+        c = (bbar[static_cast<std::size_t>(i)] - detail::volumetric_row<NN>(g, axi)) / 3.0;
+        B.row(0) += c;
+        B.row(1) += c;
+        B.row(2) += c;
       }
       strain.head<4>().noalias() = B * ue;
       strain_n.head<4>().noalias() = B * une;
@@ -300,8 +339,18 @@ private:
 
       f.noalias() += B.transpose() * (g.dV * stress.head<4>());
       if (want_tangent) {
-        DB.noalias() = (g.dV * tangent.topLeftCorner<4, 4>()) * B;
-        K.noalias() += B.transpose() * DB;
+        const Eigen::Matrix4d Dw = g.dV * tangent.topLeftCorner<4, 4>();
+        detail::add_sparse_btdb<NN>(g, axi, Dw, K);
+        if (modified) {
+          // (B + m c)^T D (B + m c) = B^T D B + (B^T D m) c + c^T ((m^T D B) + (m^T D m) c)
+          const Eigen::Vector4d Dm = Dw.leftCols<3>().rowwise().sum();
+          const Eigen::RowVector4d mD = Dw.topRows<3>().colwise().sum();
+          const double mDm = Dm.head<3>().sum();
+          const auto a = detail::sparse_bt_times<NN>(g, axi, Dm);
+          const auto b = detail::sparse_bt_times<NN>(g, axi, mD.transpose());
+          K.noalias() += a * c;
+          K.noalias() += c.transpose() * (b.transpose() + mDm * c);
+        }
       }
     }
     out.force = f;
@@ -309,10 +358,15 @@ private:
     return Outcome::success();
   }
 
+  using Phi = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, max_points, max_reduced>;
+  using PhiT = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, max_reduced, max_points>;
+  using Gram = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, max_reduced, max_reduced>;
+
   Options opt_;
   RuleTable rule_;         ///< the n x n rule of all points
-  RuleTable reduced_;      ///< (n-1) x (n-1) rule of the selective variant (1 x 1 otherwise, unused)
-  Eigen::MatrixXd interp_; ///< Lagrange interpolation from reduced_ points to rule_ points
+  /// Values at the rule's points of the Lagrange basis through the (n-1) x (n-1) Gauss
+  /// points (selective variant; a single column of ones otherwise).
+  Phi interp_;
 };
 
 } // namespace stratum::quad

@@ -1,0 +1,83 @@
+// The material-point driver on linear elasticity: every path kind against its
+// closed form, and malformed point files.
+#include "stratum/point_driver.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace stratum;
+
+TEST_CASE("point driver: elastic closed forms for every path kind", "[point]") {
+  const std::string file = std::string(STRATUM_SOURCE_DIR) + "/inputs/point/elastic_paths.toml";
+  auto d = PointDriver::from_file(file, {STRATUM_PLUGIN_DIR});
+  const auto r = d->run();
+  REQUIRE(r.outcome.ok());
+  REQUIRE(r.rows.size() == 1 + 10 + 10 + 5 + 5 + 4 + 2);
+  const double E = 1e4, nu = 0.25, K = E / (3 * (1 - 2 * nu)), G = E / (2 * (1 + nu));
+  const double M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)), tol = 1e-9;
+  // 1: drained triaxial: uniaxial stress change E * eps, radial strain -nu eps.
+  const auto& a = r.rows[10];
+  CHECK(a.stress[1] - (-100) == Approx(E * -0.01).epsilon(tol));
+  CHECK(a.stress[0] == Approx(-100).epsilon(tol));
+  CHECK(a.strain[0] == Approx(nu * 0.01).epsilon(tol));
+  // 2: undrained back to eps_axial = 0 with eps_v unchanged: deviatoric unloading.
+  const auto& b = r.rows[20];
+  CHECK(b.strain[1] == Approx(0).margin(1e-14));
+  const double ev_b = b.strain[0] + b.strain[1] + b.strain[2];
+  CHECK(ev_b == Approx(a.strain[0] + a.strain[1] + a.strain[2]).epsilon(tol));
+  // 3: oedometer: axial stress change M de, radial lambda de.
+  const auto& c = r.rows[25];
+  CHECK(c.stress[1] - b.stress[1] == Approx(M * -0.005).epsilon(tol));
+  CHECK(c.stress[0] - b.stress[0] == Approx((M - 2 * G) * -0.005).epsilon(tol));
+  // 4: isotropic unloading by 50 kPa: de_v = 50 / K (tension positive).
+  const auto& e = r.rows[30];
+  CHECK((e.strain[0] + e.strain[1] + e.strain[2]) - (c.strain[0] + c.strain[1] + c.strain[2]) ==
+        Approx(50.0 / K).epsilon(tol));
+  CHECK((e.stress[0] + e.stress[1] + e.stress[2]) / 3 - (c.stress[0] + c.stress[1] + c.stress[2]) / 3 ==
+        Approx(50.0).epsilon(tol));
+  // 5: simple shear: tau = G gamma, sigma_yy unchanged.
+  const auto& f = r.rows[34];
+  CHECK(f.stress[3] == Approx(G * 0.002).epsilon(tol));
+  CHECK(f.stress[1] == Approx(e.stress[1]).epsilon(tol));
+  // 6: mixed = drained triaxial again.
+  const auto& g = r.rows[36];
+  CHECK(g.stress[1] - f.stress[1] == Approx(E * -0.001).epsilon(tol));
+
+  const auto csv = std::filesystem::temp_directory_path() / "stratum_point_test.csv";
+  PointDriver::write_csv(r, csv.string());
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  CHECK(header.find("step,path,eps_xx") == 0);
+  CHECK(header.find("eps_axial,eps_vol,p_kPa,q_kPa") != std::string::npos);
+  int lines = 0;
+  for (std::string l; std::getline(in, l);) ++lines;
+  CHECK(lines == 37);
+  std::filesystem::remove(csv);
+}
+
+TEST_CASE("point driver: malformed point files give located one-line errors", "[point][cli]") {
+  auto msg = [](const std::string& text) {
+    try {
+      PointDriver::from_string(text, "p.toml", {STRATUM_PLUGIN_DIR});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string mat = "[material]\nmodel = \"linear_elastic\"\nE = 100.0\n";
+  CHECK(msg(mat + "[[paths]]\ntype = \"triaxial\"\n") ==
+        "p.toml:5:8 [[paths]] #1 type = \"triaxial\" is not allowed; allowed: one of: triaxial_drained, "
+        "triaxial_undrained, oedometer, isotropic, simple_shear, mixed");
+  CHECK(msg(mat + "[[paths]]\ntype = \"oedometer\"\n") ==
+        "p.toml:4:1 [[paths]] #1 missing required parameter 'axial_strain' (total axial strain of the segment, "
+        "tension positive (compression < 0))");
+  CHECK(msg(mat + "[[paths]]\ntype = \"oedometer\"\naxial_strain = -0.1\nsteps = 0\n") ==
+        "p.toml:7:9 [[paths]] #1 steps = 0 is outside [1, inf)");
+  CHECK(msg(mat + "[initial]\nstress = [1.0, 2.0]\n[[paths]]\ntype = \"oedometer\"\naxial_strain = 0.1\n") ==
+        "p.toml:5:10 [initial] stress must have 6 numbers (xx, yy, zz, xy, yz, zx)");
+  CHECK(msg("[material]\nmodel = \"plastic\"\n").find("p.toml:2:9 [material] model = \"plastic\": unknown material "
+                                                     "'plastic'; known: ") == 0);
+}

@@ -1,0 +1,486 @@
+// bench_linear: times assembly and solution of a linear axisymmetric quad8 problem
+// from about 1e4 to 1e6 free DOF and writes the table to docs/benchmarks.md.
+//
+// The problem is the Lamé cylinder of inputs/verification/lame_axisymmetric.toml
+// (a = 1, b = 2, height 0.5, E = 1000, nu = 0.3, p = 1, u_z = 0 on top and bottom),
+// meshed with nx x nx/2 square quad8 cells, 3x3 Gauss. It is built through
+// Analysis::from_string with the build tree's plugins, so the real plugin path is
+// measured. Every phase is timed separately; the whole run() is timed for comparison.
+// The result is checked against the closed form u(a) at every size.
+//
+// Usage: bench_linear [--max-dof N] [--repeat K] [--no-write] [--docs PATH] [--plugin-dir DIR]
+// README.md in this folder describes the columns.
+#include "stratum/analysis.hpp"
+#include "stratum/linear_solver.hpp"
+#include "stratum/model.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr double radius_a = 1.0, radius_b = 2.0, height = 0.5;
+constexpr double young = 1000.0, poisson = 0.3, pressure = 1.0;
+constexpr double tolerance = 1e-4;     ///< largest accepted relative error of u(a)
+constexpr double target_dof = 1e5;     ///< the size of the acceptance target
+constexpr double target_seconds = 2.0; ///< assembly + solve at target_dof
+constexpr const char* begin_marker = "<!-- bench_linear:begin -->";
+constexpr const char* end_marker = "<!-- bench_linear:end -->";
+
+/// u(a) of the closed form (plane-strain ring; u_z = 0 on both faces makes it exact).
+double exact_u_a() {
+  const double a = radius_a, b = radius_b, nu = poisson;
+  return (1 + nu) * pressure * a * a / (young * (b * b - a * a)) * ((1 - 2 * nu) * a + b * b / a);
+}
+
+struct Options {
+  double max_dof = 1e6;
+  int repeat = 3;
+  bool write = true;
+  std::string docs = std::string(STRATUM_SOURCE_DIR) + "/docs/benchmarks.md";
+  std::string plugin_dir = STRATUM_PLUGIN_DIR;
+};
+
+/// One mesh of the series: the requested size and the nx x ny cells reaching it.
+struct Size {
+  double target = 0;
+  int nx = 0, ny = 0;
+};
+
+/// Free unknowns of an nx x nx/2 quad8 mesh with u_z fixed on top and bottom:
+/// 2 (1.5 nx^2 + 3 nx + 1) DOF less 2 (2 nx + 1) constrained ones.
+long long free_dofs(long long nx) { return 3 * nx * nx + 2 * nx; }
+
+/// Smallest even nx (cells square: ny = nx / 2 over a 1 x 0.5 section) with at least `target` free DOF.
+Size size_for(double target) {
+  int nx = 2;
+  while (static_cast<double>(free_dofs(nx)) < target) nx += 2;
+  return {target, nx, nx / 2};
+}
+
+std::string scene_text(const Size& s) {
+  std::ostringstream t;
+  t.precision(17);
+  t << "title = \"bench_linear: Lame cylinder " << s.nx << " x " << s.ny << " quad8\"\n"
+    << "[analysis]\nformulation = \"axisymmetric\"\nsolver = \"newton\"\nlinear_solver = \"auto\"\nsteps = "
+       "1\n"
+    << "[mesh]\ngenerator = \"blocks\"\nnodes_per_cell = 8\n"
+    << "[[mesh.blocks]]\nname = \"ring\"\nx = [" << radius_a << ", " << radius_b << "]\ny = [0.0, " << height
+    << "]\nnx = " << s.nx << "\nny = " << s.ny << "\n"
+    << "[materials.steel]\nmodel = \"linear_elastic\"\nE = " << young << "\nnu = " << poisson << "\n"
+    << "[[domains]]\ncells = \"ring\"\nelement = \"quad\"\nmaterial = \"steel\"\nintegration = 3\n"
+    << "[[constraints]]\nnodes = \"bottom\"\nuy = 0.0\n"
+    << "[[constraints]]\nnodes = \"top\"\nuy = 0.0\n"
+    << "[[loads]]\ntype = \"pressure\"\nedges = \"ring.left\"\np = " << pressure << "\n"
+    << "[output]\nvtk = false\n";
+  return t.str();
+}
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+/// Largest relative error of u_r over the nodes of the inner face r = a. `u_free` holds
+/// free unknowns when `free` is true, else it is the full-size displacement.
+double u_a_error(const stratum::Model& m, const Eigen::VectorXd& u, bool free) {
+  const auto it = m.mesh.node_sets.find("ring.left");
+  if (it == m.mesh.node_sets.end() || it->second.empty())
+    throw stratum::Error("bench_linear: no node set ring.left");
+  const double exact = exact_u_a();
+  double worst = 0.0;
+  for (int n : it->second) {
+    const int d = 2 * n;
+    double ur = 0.0;
+    if (free) {
+      const int e = m.dofs.eq[static_cast<std::size_t>(d)];
+      ur = e >= 0 ? u[e] : 0.0;
+    } else {
+      ur = u[d];
+    }
+    worst = std::max(worst, std::isfinite(ur) ? std::abs(ur - exact) / exact : INFINITY);
+  }
+  return worst;
+}
+
+/// The measurements of one repetition of one size.
+struct Sample {
+  double build = 0;     ///< Analysis::from_string: parse, plugins, mesh, model
+  double assembler = 0; ///< Assembler(model) (pattern + scatter maps) + make_matrix()
+  double assembly = 0;  ///< one assemble(): internal force + tangent
+  double analyze = 0;   ///< CHOLMOD symbolic analysis
+  double factorize = 0; ///< CHOLMOD numeric factorization
+  double solve = 0;     ///< forward/back substitution
+  double run = 0;       ///< the whole Analysis::run() (its own Assembler, 2 assemblies, auto solver)
+  double err_direct = 0, err_run = 0;
+  int free = 0;
+  long long nnz = 0;
+  std::string auto_name;
+  int run_assemblies = 0;
+
+  [[nodiscard]] double solution() const { return assembler + assembly + analyze + factorize + solve; }
+  [[nodiscard]] double to_solution() const { return build + run; }
+};
+
+Sample measure(const Size& s, const std::string& plugin_dir) {
+  Sample r;
+  stratum::RunOptions ro;
+  ro.plugin_dirs = {plugin_dir};
+  ro.write_output = false;
+  const std::string text = scene_text(s);
+  auto t = Clock::now();
+  auto analysis = stratum::Analysis::from_string(text, "bench_linear.toml", std::move(ro));
+  r.build = seconds_since(t);
+  stratum::Model& m = analysis->model();
+  r.free = m.dofs.free_count;
+  {
+    t = Clock::now();
+    const stratum::Assembler assembler(m);
+    stratum::SparseMatrix k = assembler.make_matrix();
+    r.assembler = seconds_since(t);
+    r.nnz = k.nonZeros();
+
+    const Eigen::VectorXd u = Eigen::VectorXd::Zero(m.dofs.total());
+    Eigen::VectorXd f_int;
+    t = Clock::now();
+    if (auto o = assembler.assemble(m, u, f_int, &k); !o.ok())
+      throw stratum::Error("assembly failed: " + o.message);
+    r.assembly = seconds_since(t);
+    const Eigen::VectorXd rhs = m.restrict_free(m.load_ref - f_int);
+
+    auto ls = stratum::make_linear_solver("cholmod", true, r.free);
+    Eigen::VectorXd x;
+    t = Clock::now();
+    if (auto o = ls->analyze(k); !o.ok()) throw stratum::Error(o.message);
+    r.analyze = seconds_since(t);
+    t = Clock::now();
+    if (auto o = ls->factorize(k); !o.ok()) throw stratum::Error(o.message);
+    r.factorize = seconds_since(t);
+    t = Clock::now();
+    if (auto o = ls->solve(rhs, x); !o.ok()) throw stratum::Error(o.message);
+    r.solve = seconds_since(t);
+    r.err_direct = u_a_error(m, x, true);
+    r.auto_name = stratum::make_linear_solver("auto", m.symmetric(), r.free)->name();
+  } // frees the benchmark's own matrix, factor and maps before run() builds its own
+
+  t = Clock::now();
+  const stratum::RunSummary summary = analysis->run();
+  r.run = seconds_since(t);
+  if (!summary.outcome.ok()) throw stratum::Error("run() failed: " + summary.outcome.message);
+  for (const auto& rep : summary.reports) r.run_assemblies += static_cast<int>(rep.residual_norms.size());
+  r.err_run = u_a_error(m, m.u, false);
+  return r;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// Medians over the repetitions (errors: the largest).
+struct Row {
+  Size size;
+  Sample med;
+  double wall = 0;     ///< wall time of all repetitions of this size
+  double peak_mib = 0; ///< process peak resident memory after this size
+};
+
+Row summarize(const Size& s, const std::vector<Sample>& v, double wall, double peak) {
+  Row row{s, v.front(), wall, peak};
+  auto med = [&](double Sample::*field) {
+    std::vector<double> x;
+    for (const auto& e : v) x.push_back(e.*field);
+    return median(std::move(x));
+  };
+  for (double Sample::*f : {&Sample::build, &Sample::assembler, &Sample::assembly, &Sample::analyze,
+                            &Sample::factorize, &Sample::solve, &Sample::run})
+    row.med.*f = med(f);
+  for (const auto& e : v) {
+    row.med.err_direct = std::max(row.med.err_direct, e.err_direct);
+    row.med.err_run = std::max(row.med.err_run, e.err_run);
+  }
+  return row;
+}
+
+/// The medians of the two compound columns: the median of the sums over the repetitions.
+double median_of(const std::vector<Sample>& v, double (Sample::*f)() const) {
+  std::vector<double> x;
+  for (const auto& e : v) x.push_back((e.*f)());
+  return median(std::move(x));
+}
+
+double peak_rss_mib() {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::strtod(line.c_str() + 6, nullptr) / 1024.0;
+  return 0.0;
+}
+
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) {
+      const auto colon = line.find(':');
+      if (colon != std::string::npos) {
+        std::string s = line.substr(colon + 1);
+        s.erase(0, s.find_first_not_of(" \t"));
+        return s;
+      }
+    }
+  return "unknown CPU";
+}
+
+std::string env_or(const char* name, const char* fallback) {
+  const char* v = std::getenv(name);
+  return v && *v ? v : fallback;
+}
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+std::string sci(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1e", v);
+  return buf;
+}
+
+/// 1234567 -> "1 234 567".
+std::string grouped(long long v) {
+  std::string s = std::to_string(v), out;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (i > 0 && (s.size() - i) % 3 == 0) out += ' ';
+    out += s[i];
+  }
+  return out;
+}
+
+std::string today_utc() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", &tm);
+  return buf;
+}
+
+// ---- console
+
+void print_header() {
+  std::printf("%9s %9s %10s | %7s %7s %7s %7s %7s %7s | %7s | %7s %7s | %8s %8s | %6s %7s\n", "free DOF",
+              "mesh", "nnz(K)", "build", "pattern", "assem", "analyze", "factor", "solve", "asm+sol", "run()",
+              "total", "err u(a)", "err run", "wall", "peakMiB");
+  std::fflush(stdout);
+}
+
+void print_row(const Row& r, double solution, double to_solution) {
+  const auto& m = r.med;
+  const std::string mesh = std::to_string(r.size.nx) + "x" + std::to_string(r.size.ny);
+  std::printf("%9d %9s %10lld | %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f | %7.3f | %7.3f %7.3f | %8.1e %8.1e | "
+              "%6.1f %7.0f\n",
+              m.free, mesh.c_str(), m.nnz, m.build, m.assembler, m.assembly, m.analyze, m.factorize, m.solve,
+              solution, m.run, to_solution, m.err_direct, m.err_run, r.wall, r.peak_mib);
+  std::fflush(stdout);
+}
+
+// ---- docs/benchmarks.md
+
+struct Measured {
+  Row row;
+  double solution = 0, to_solution = 0;
+};
+
+std::string target_sentence(const std::vector<Measured>& rows) {
+  const auto it = std::find_if(rows.begin(), rows.end(),
+                               [](const Measured& m) { return m.row.size.target == target_dof; });
+  if (it == rows.end())
+    return "Target (1e5 DOF assembled and solved in under 2 s): not measured in this run.";
+  const bool met = it->solution < target_seconds;
+  std::ostringstream s;
+  s << "Target (1e5 DOF assembled and solved in under 2 s): **" << (met ? "met" : "NOT met")
+    << "**: " << fixed(it->solution, 2) << " s for pattern + assembly + analyze + factorize + solve at "
+    << grouped(it->row.med.free) << " free DOF; the whole time to solution (scene build + `run()`) is "
+    << fixed(it->to_solution, 2) << " s" << (it->to_solution < target_seconds ? " (also under 2 s)." : ".");
+  return s.str();
+}
+
+std::string section(const std::vector<Measured>& rows, const Options& o) {
+  std::ostringstream s;
+  s << begin_marker << "\n"
+    << "## Linear axisymmetric quad8: assembly and solution\n\n"
+    << "Generated by `build/release/bin/bench_linear` (source `tools/bench/bench_linear.cpp`; columns in "
+       "`tools/bench/README.md`) on "
+    << today_utc() << ", " << std::thread::hardware_concurrency() << " cores (" << cpu_model()
+    << "), OPENBLAS_NUM_THREADS=" << env_or("OPENBLAS_NUM_THREADS", "unset")
+    << ", OMP_NUM_THREADS=" << env_or("OMP_NUM_THREADS", "unset") << "; median of " << o.repeat
+    << " repetitions. Regenerate with `build/release/bin/bench_linear` (`--max-dof N` to stop early, "
+       "`--no-write` to leave this file alone). Absolute times on shared machines vary from run to run.\n\n"
+    << "Lamé cylinder a = 1, b = 2, height 0.5, E = 1000, nu = 0.3, p = 1, u_z = 0 on top and bottom; "
+       "nx x nx/2 square quad8 cells, 3x3 Gauss, built with `Analysis::from_string` and the build tree's "
+       "plugins. Times in seconds. *asm+solve* = pattern + assembly + analyze + factorize + solve with "
+       "`make_linear_solver(\"cholmod\")`; *run()* = `Analysis::run()` with `linear_solver = \"auto\"` "
+       "(its own pattern, "
+    << (rows.empty() ? 2 : rows.front().row.med.run_assemblies)
+    << " assemblies of Newton's one iteration, analyze, factorize, solve); *total* = build + run(). "
+       "*err u(a)* = largest relative error of u_r on r = a against the closed form "
+    << sci(exact_u_a()) << " m (direct solve / run()).\n\n"
+    << "| free DOF | mesh | nnz(K) | build | pattern | assembly | analyze | factorize | solve | asm+solve | "
+       "run() "
+       "| total | auto | err u(a) | peak RSS |\n"
+    << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|\n";
+  for (const auto& e : rows) {
+    const auto& m = e.row.med;
+    s << "| " << grouped(m.free) << " | " << e.row.size.nx << " x " << e.row.size.ny << " | "
+      << grouped(m.nnz) << " | " << fixed(m.build, 3) << " | " << fixed(m.assembler, 3) << " | "
+      << fixed(m.assembly, 3) << " | " << fixed(m.analyze, 3) << " | " << fixed(m.factorize, 3) << " | "
+      << fixed(m.solve, 3) << " | **" << fixed(e.solution, 3) << "** | " << fixed(m.run, 3) << " | "
+      << fixed(e.to_solution, 3) << " | " << m.auto_name << " | " << sci(m.err_direct) << " / "
+      << sci(m.err_run) << " | " << fixed(e.row.peak_mib, 0) << " MiB |\n";
+  }
+  s << "\n" << target_sentence(rows) << "\n" << end_marker << "\n";
+  return s.str();
+}
+
+/// Replaces this program's section of the file (or appends it), keeping the rest; atomic.
+void write_docs(const std::string& path, const std::string& block) {
+  std::string old;
+  if (std::ifstream in(path, std::ios::binary); in) {
+    std::stringstream ss;
+    ss << in.rdbuf();
+    old = ss.str();
+  }
+  std::string text;
+  const auto b = old.find(begin_marker);
+  const auto e = b == std::string::npos ? std::string::npos : old.find(end_marker, b);
+  if (e != std::string::npos) {
+    auto after = e + std::string(end_marker).size();
+    if (after < old.size() && old[after] == '\n') ++after;
+    text = old.substr(0, b) + block + old.substr(after);
+  } else if (old.empty()) {
+    text =
+        "# Benchmarks\n\nMeasured figures of Stratum's benchmark programs (`tools/bench`). Each section is "
+        "rewritten by the program named in it.\n\n" +
+        block;
+  } else {
+    text = old + (old.back() == '\n' ? "\n" : "\n\n") + block;
+  }
+  const fs::path target(path);
+  if (target.has_parent_path()) fs::create_directories(target.parent_path());
+  const fs::path tmp = target.string() + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) throw stratum::Error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, target);
+}
+
+void usage(std::ostream& os) {
+  os << "usage: bench_linear [--max-dof N] [--repeat K] [--no-write] [--docs PATH] [--plugin-dir DIR]\n"
+        "  --max-dof N   largest size to run (default 1e6; sizes ~1e4, 3e4, 1e5, 3e5, 1e6)\n"
+        "  --repeat K    repetitions per size, medians reported (default 3)\n"
+        "  --no-write    do not update the docs file\n"
+        "  --docs PATH   file to update (default <source>/docs/benchmarks.md)\n"
+        "  --plugin-dir DIR  plugins to load (default: the build tree's)\n";
+}
+
+bool parse(int argc, char** argv, Options& o) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (a == "--max-dof" && has_value) {
+      o.max_dof = std::strtod(argv[++i], nullptr);
+      if (!(o.max_dof > 0)) return false;
+    } else if (a == "--repeat" && has_value) {
+      o.repeat = std::atoi(argv[++i]);
+      if (o.repeat < 1) return false;
+    } else if (a == "--docs" && has_value) {
+      o.docs = argv[++i];
+    } else if (a == "--plugin-dir" && has_value) {
+      o.plugin_dir = argv[++i];
+    } else if (a == "--no-write") {
+      o.write = false;
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  Options opt;
+  if (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+    usage(std::cout);
+    return 0;
+  }
+  if (!parse(argc, argv, opt)) {
+    usage(std::cerr);
+    return 2;
+  }
+  std::printf("bench_linear: Lame cylinder, axisymmetric quad8, 3x3 Gauss; %u cores (%s), "
+              "OPENBLAS_NUM_THREADS=%s; median of %d; times in s\n",
+              std::thread::hardware_concurrency(), cpu_model().c_str(),
+              env_or("OPENBLAS_NUM_THREADS", "unset").c_str(), opt.repeat);
+  print_header();
+  std::vector<Measured> rows;
+  bool accurate = true;
+  try {
+    for (double target : {1e4, 3e4, 1e5, 3e5, 1e6}) {
+      if (target > opt.max_dof) break;
+      const Size s = size_for(target);
+      const auto t0 = Clock::now();
+      std::vector<Sample> samples;
+      for (int k = 0; k < opt.repeat; ++k) samples.push_back(measure(s, opt.plugin_dir));
+      const Row row = summarize(s, samples, seconds_since(t0), peak_rss_mib());
+      const Measured m{row, median_of(samples, &Sample::solution), median_of(samples, &Sample::to_solution)};
+      print_row(row, m.solution, m.to_solution);
+      rows.push_back(m);
+      if (!(row.med.err_direct < tolerance) || !(row.med.err_run < tolerance)) {
+        std::printf("WARNING: u(a) relative error %.3e (direct) / %.3e (run) at %d DOF exceeds %.0e\n",
+                    row.med.err_direct, row.med.err_run, row.med.free, tolerance);
+        std::fflush(stdout);
+        accurate = false;
+        break;
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_linear: %s\n", e.what());
+    return 2;
+  }
+  std::printf("%s\n", target_sentence(rows).c_str());
+  if (!accurate) return 1;
+  if (opt.write) {
+    try {
+      write_docs(opt.docs, section(rows, opt));
+      std::printf("wrote %s\n", opt.docs.c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench_linear: %s\n", e.what());
+      return 2;
+    }
+  }
+  return 0;
+}
