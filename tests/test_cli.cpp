@@ -30,8 +30,8 @@ fs::path scratch() {
 /// Runs stratum with the build tree's plugins; captures stdout and stderr separately.
 Result stratum(const std::string& args, const std::string& env = "") {
   const fs::path out = scratch() / "stdout.txt", err = scratch() / "stderr.txt";
-  const std::string cmd = "cd " + scratch().string() + " && " + env + " STRATUM_PLUGIN_PATH= " + STRATUM_EXE + " " +
-                          args + " >" + out.string() + " 2>" + err.string();
+  const std::string cmd = "cd " + scratch().string() + " && " + env + " STRATUM_PLUGIN_PATH= " + STRATUM_EXE +
+                          " " + args + " >" + out.string() + " 2>" + err.string();
   Result r;
   const int status = std::system(cmd.c_str());
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -164,7 +164,8 @@ TEST_CASE("cli: nu out of range", "[cli]") {
 }
 
 TEST_CASE("cli: unknown plugin name lists the known names", "[cli]") {
-  const auto path = write_scene("unknown_plugin.toml", edit("model = \"linear_elastic\"", "model = \"elastik\""));
+  const auto path =
+      write_scene("unknown_plugin.toml", edit("model = \"linear_elastic\"", "model = \"elastik\""));
   expect_one_line_error(stratum("check " + path), path + ":13:9 ",
                         "model = \"elastik\": unknown material 'elastik'; known: linear_elastic");
 }
@@ -183,7 +184,8 @@ TEST_CASE("cli: bad references and usage errors", "[cli]") {
   auto p1 = write_scene("bad_set.toml", edit("edges = \"ring.left\"", "edges = \"ring.inner\""));
   expect_one_line_error(stratum("check " + p1), p1 + ":28:9 ",
                         "edges = \"ring.inner\" is not an edge set of the mesh; known: ");
-  auto p2 = write_scene("bad_choice.toml", edit("element = \"quad\"", "element = \"quad\"\nvolumetric = \"soft\""));
+  auto p2 =
+      write_scene("bad_choice.toml", edit("element = \"quad\"", "element = \"quad\"\nvolumetric = \"soft\""));
   expect_one_line_error(stratum("check " + p2), p2 + ":19:14 ",
                         "volumetric = \"soft\" is not allowed; allowed: one of: full, bbar, selective");
   expect_one_line_error(stratum("frobnicate"), "", "unknown command 'frobnicate'");

@@ -85,10 +85,12 @@ TEST_CASE("linear_elastic: cross-anisotropic reduces to isotropic for matching c
   s.Ev = E;
   s.nu_vh = nu;
   s.Gvh = E / (2 * (1 + nu));
-  CHECK((le::cross_anisotropic_stiffness(le::resolve(s)) - iso).cwiseAbs().maxCoeff() < 1e-12 * iso.maxCoeff());
+  CHECK((le::cross_anisotropic_stiffness(le::resolve(s)) - iso).cwiseAbs().maxCoeff() <
+        1e-12 * iso.maxCoeff());
   // and a different Gvh is not isotropic any more
   s.Gvh *= 2;
-  CHECK((le::cross_anisotropic_stiffness(le::resolve(s)) - iso).cwiseAbs().maxCoeff() > 1e-3 * iso.maxCoeff());
+  CHECK((le::cross_anisotropic_stiffness(le::resolve(s)) - iso).cwiseAbs().maxCoeff() >
+        1e-3 * iso.maxCoeff());
 }
 
 TEST_CASE("linear_elastic: cross-anisotropic stiffness responds with its five constants", "[point]") {
@@ -103,7 +105,8 @@ TEST_CASE("linear_elastic: cross-anisotropic stiffness responds with its five co
   CHECK(e(1) == Approx(sv / c.Ev).epsilon(1e-10));
   CHECK(e(0) == Approx(-c.nu_vh * sv / c.Ev).epsilon(1e-10));
   CHECK(e(2) == Approx(-c.nu_vh * sv / c.Ev).epsilon(1e-10));
-  // horizontal (x) stress: eps_x = s / Eh, eps_z = -nu_hh s / Eh, eps_y = -nu_hv s / Eh with nu_hv = nu_vh Eh / Ev
+  // horizontal (x) stress: eps_x = s / Eh, eps_z = -nu_hh s / Eh, eps_y = -nu_hv s / Eh with nu_hv = nu_vh Eh
+  // / Ev
   e = S * unit(stratum::voigt::xx, sv);
   CHECK(e(0) == Approx(sv / c.Eh).epsilon(1e-10));
   CHECK(e(2) == Approx(-c.nu_hh * sv / c.Eh).epsilon(1e-10));

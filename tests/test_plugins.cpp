@@ -74,14 +74,17 @@ TEST_CASE("plugins: duplicate names name both libraries", "[plugins]") {
   // The registry itself refuses a second factory of the same name.
   Registry r2;
   auto make = [] {
-    return Factory<Solver>{.name = "s", .summary = "", .schema = {}, .create = [](const Params&) {
-                             return std::unique_ptr<Solver>();
-                           }, .library = {}};
+    return Factory<Solver>{.name = "s",
+                           .summary = "",
+                           .schema = {},
+                           .create = [](const Params&) { return std::unique_ptr<Solver>(); },
+                           .library = {}};
   };
   r2.set_current_library("libA.so");
   r2.add(make());
   r2.set_current_library("libB.so");
-  CHECK(message_of([&] { r2.add(make()); }) == "duplicate solver 's': registered by libA.so and again by libB.so");
+  CHECK(message_of([&] { r2.add(make()); }) ==
+        "duplicate solver 's': registered by libA.so and again by libB.so");
 }
 
 TEST_CASE("plugins: unknown names list the known ones", "[plugins]") {
@@ -97,7 +100,8 @@ TEST_CASE("plugins: a manifest that promises what the library does not register"
   PluginCatalog catalog({toy + "/liar"});
   Registry reg;
   const auto msg = message_of([&] { catalog.require(reg, PluginKind::material, "promised"); });
-  CHECK(msg.find("its manifest lists material 'promised' but the library did not register it") != std::string::npos);
+  CHECK(msg.find("its manifest lists material 'promised' but the library did not register it") !=
+        std::string::npos);
 }
 
 TEST_CASE("schema: ranges, defaults and the messages of check_table", "[plugins]") {

@@ -73,7 +73,8 @@ class QuadTestMaterial final : public stratum::Material {
 public:
   QuadTestMaterial(double E, double nu, double alpha, double kappa)
       : D_(stratum::linear_elastic::isotropic_stiffness(E, nu)), alpha_(alpha), kappa_(kappa) {}
-  [[nodiscard]] Outcome update(const stratum::MaterialInput& in, stratum::MaterialOutput& out) const override {
+  [[nodiscard]] Outcome update(const stratum::MaterialInput& in,
+                               stratum::MaterialOutput& out) const override {
     const Vec6 eps = in.strain_n + in.dstrain;
     out.stress = in.stress_n + sigma(eps) - sigma(in.strain_n);
     const double tr = eps.head<3>().sum();
@@ -112,8 +113,8 @@ ElementResult evaluate_cell(const QuadElement& el, unsigned shape, const Eigen::
   StateStore states(static_cast<std::size_t>(el.num_points(shape)), mat.history_size());
   ElementData cell{3, shape, &X};
   ElementResult r;
-  const Outcome o = el.compute(cell, u, Eigen::VectorXd::Zero(u.size()), Constitutive{&mat, nullptr}, states, 0,
-                               true, r);
+  const Outcome o =
+      el.compute(cell, u, Eigen::VectorXd::Zero(u.size()), Constitutive{&mat, nullptr}, states, 0, true, r);
   REQUIRE(o.ok());
   return r;
 }
@@ -123,7 +124,8 @@ ElementResult evaluate_cell(const QuadElement& el, unsigned shape, const Eigen::
 /// singular values of a symmetric matrix are the magnitudes of its eigenvalues.
 std::pair<int, double> count_zero_modes(const Eigen::MatrixXd& K, double tol) {
   const Eigen::MatrixXd Ks = 0.5 * (K + K.transpose());
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd, Eigen::NoQRPreconditioner>(Ks).singularValues(); // descending
+  const Eigen::VectorXd sv =
+      Eigen::JacobiSVD<Eigen::MatrixXd, Eigen::NoQRPreconditioner>(Ks).singularValues(); // descending
   const double lmax = sv(0);
   int zeros = 0;
   for (Eigen::Index i = 0; i < sv.size(); ++i)
@@ -146,22 +148,26 @@ struct TestMesh {
 /// has_mid(edge number) is true get a midside node at the edge midpoint moved normal to
 /// the edge by curve * (edge length) * (+-1 alternating), which curves the edge.
 template <class Pred>
-TestMesh add_midside_nodes(std::vector<Vec2> corners, const std::vector<std::array<int, 4>>& quads, Pred has_mid,
-                           double curve) {
+TestMesh add_midside_nodes(std::vector<Vec2> corners, const std::vector<std::array<int, 4>>& quads,
+                           Pred has_mid, double curve) {
   TestMesh m;
   m.nodes = std::move(corners);
   std::map<std::pair<int, int>, int> edge_count;
   for (const auto& q : quads)
-    for (int e = 0; e < 4; ++e) ++edge_count[std::minmax(q[static_cast<std::size_t>(e)], q[static_cast<std::size_t>((e + 1) % 4)])];
+    for (int e = 0; e < 4; ++e)
+      ++edge_count[std::minmax(q[static_cast<std::size_t>(e)], q[static_cast<std::size_t>((e + 1) % 4)])];
   m.boundary.assign(m.nodes.size(), false);
   for (const auto& [edge, count] : edge_count)
-    if (count == 1) m.boundary[static_cast<std::size_t>(edge.first)] = m.boundary[static_cast<std::size_t>(edge.second)] = true;
+    if (count == 1)
+      m.boundary[static_cast<std::size_t>(edge.first)] = m.boundary[static_cast<std::size_t>(edge.second)] =
+          true;
 
   std::map<std::pair<int, int>, int> mid_node;
   int edge_number = 0;
   for (const auto& [edge, count] : edge_count) {
     if (has_mid(edge_number)) {
-      const Vec2 a = m.nodes[static_cast<std::size_t>(edge.first)], b = m.nodes[static_cast<std::size_t>(edge.second)];
+      const Vec2 a = m.nodes[static_cast<std::size_t>(edge.first)],
+                 b = m.nodes[static_cast<std::size_t>(edge.second)];
       const Vec2 t = b - a;
       const Vec2 normal(-t.y(), t.x());
       const double sign = edge_number % 2 == 0 ? 1.0 : -1.0;
@@ -175,7 +181,8 @@ TestMesh add_midside_nodes(std::vector<Vec2> corners, const std::vector<std::arr
     unsigned shape = 0x0F;
     std::vector<int> nodes(q.begin(), q.end());
     for (int e = 0; e < 4; ++e) {
-      const auto it = mid_node.find(std::minmax(q[static_cast<std::size_t>(e)], q[static_cast<std::size_t>((e + 1) % 4)]));
+      const auto it = mid_node.find(
+          std::minmax(q[static_cast<std::size_t>(e)], q[static_cast<std::size_t>((e + 1) % 4)]));
       if (it != mid_node.end()) {
         shape |= 1u << (4 + e);
         nodes.push_back(it->second);
@@ -192,7 +199,8 @@ template <class Pred> TestMesh macneal_harder_patch(double x0, Pred has_mid, dou
   std::vector<Vec2> c{Vec2(0.0, 0.0),   Vec2(0.24, 0.0),  Vec2(0.24, 0.12), Vec2(0.0, 0.12),
                       Vec2(0.04, 0.02), Vec2(0.18, 0.03), Vec2(0.16, 0.08), Vec2(0.08, 0.08)};
   for (Vec2& p : c) p.x() += x0;
-  const std::vector<std::array<int, 4>> q{{0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}, {4, 5, 6, 7}};
+  const std::vector<std::array<int, 4>> q{
+      {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}, {4, 5, 6, 7}};
   return add_midside_nodes(c, q, has_mid, curve);
 }
 
@@ -210,8 +218,8 @@ Eigen::MatrixX2d coordinates_of(const TestMesh& m, std::size_t e) {
 }
 
 /// Dense internal force and stiffness at u; states get every cell's points in order.
-Assembly assemble(const QuadElement& el, const TestMesh& m, const stratum::Material& mat, const Eigen::VectorXd& u,
-                  StateStore& states) {
+Assembly assemble(const QuadElement& el, const TestMesh& m, const stratum::Material& mat,
+                  const Eigen::VectorXd& u, StateStore& states) {
   const auto ndof = static_cast<Eigen::Index>(2 * m.nodes.size());
   Assembly a{Eigen::MatrixXd::Zero(ndof, ndof), Eigen::VectorXd::Zero(ndof)};
   std::size_t first = 0;
@@ -220,11 +228,12 @@ Assembly assemble(const QuadElement& el, const TestMesh& m, const stratum::Mater
     const Eigen::MatrixX2d X = coordinates_of(m, e);
     const auto n = static_cast<Eigen::Index>(nodes.size());
     Eigen::VectorXd ue(2 * n);
-    for (Eigen::Index k = 0; k < n; ++k) ue.segment<2>(2 * k) = u.segment<2>(2 * nodes[static_cast<std::size_t>(k)]);
+    for (Eigen::Index k = 0; k < n; ++k)
+      ue.segment<2>(2 * k) = u.segment<2>(2 * nodes[static_cast<std::size_t>(k)]);
     ElementData cell{static_cast<int>(e), m.shapes[e], &X};
     ElementResult r;
-    const Outcome o = el.compute(cell, ue, Eigen::VectorXd::Zero(2 * n), Constitutive{&mat, nullptr}, states, first,
-                                 true, r);
+    const Outcome o = el.compute(cell, ue, Eigen::VectorXd::Zero(2 * n), Constitutive{&mat, nullptr}, states,
+                                 first, true, r);
     REQUIRE(o.ok());
     for (Eigen::Index i = 0; i < 2 * n; ++i) {
       const Eigen::Index gi = 2 * nodes[static_cast<std::size_t>(i / 2)] + i % 2;
@@ -244,8 +253,8 @@ std::size_t total_points(const QuadElement& el, const TestMesh& m) {
 }
 
 /// Solves K u = f_ext for the free DOFs with u prescribed on the others.
-Eigen::VectorXd solve_free(const Eigen::MatrixXd& K, const Eigen::VectorXd& f_ext, const std::vector<bool>& fixed,
-                           Eigen::VectorXd u) {
+Eigen::VectorXd solve_free(const Eigen::MatrixXd& K, const Eigen::VectorXd& f_ext,
+                           const std::vector<bool>& fixed, Eigen::VectorXd u) {
   std::vector<Eigen::Index> free;
   for (std::size_t i = 0; i < fixed.size(); ++i)
     if (!fixed[i]) free.push_back(static_cast<Eigen::Index>(i));
@@ -254,7 +263,8 @@ Eigen::VectorXd solve_free(const Eigen::MatrixXd& K, const Eigen::VectorXd& f_ex
   Eigen::VectorXd rhs(nf);
   for (Eigen::Index i = 0; i < nf; ++i) {
     rhs(i) = f_ext(free[static_cast<std::size_t>(i)]) - K.row(free[static_cast<std::size_t>(i)]).dot(u);
-    for (Eigen::Index j = 0; j < nf; ++j) Kff(i, j) = K(free[static_cast<std::size_t>(i)], free[static_cast<std::size_t>(j)]);
+    for (Eigen::Index j = 0; j < nf; ++j)
+      Kff(i, j) = K(free[static_cast<std::size_t>(i)], free[static_cast<std::size_t>(j)]);
   }
   // u holds zeros at the free DOFs, so K u above only involves the prescribed values.
   const Eigen::VectorXd uf = Kff.fullPivLu().solve(rhs);
@@ -306,8 +316,10 @@ PatchResult run_patch(const QuadElement& el, const TestMesh& m, const stratum::M
   const Vec6 zero = Vec6::Zero();
   REQUIRE(mat.update(stratum::MaterialInput{zero, zero, {}, strain_exact, {}}, mo).ok());
   for (std::size_t p = 0; p < states.points(); ++p) {
-    res.stress_error = std::max(res.stress_error, (states.trial(p).stress() - stress_exact).cwiseAbs().maxCoeff());
-    res.strain_error = std::max(res.strain_error, (states.trial(p).strain() - strain_exact).cwiseAbs().maxCoeff());
+    res.stress_error =
+        std::max(res.stress_error, (states.trial(p).stress() - stress_exact).cwiseAbs().maxCoeff());
+    res.strain_error =
+        std::max(res.strain_error, (states.trial(p).strain() - strain_exact).cwiseAbs().maxCoeff());
   }
   res.stress_error /= stress_exact.cwiseAbs().maxCoeff();
   res.strain_error /= strain_exact.cwiseAbs().maxCoeff();
@@ -384,13 +396,15 @@ TEST_CASE("quad: Gauss rules integrate polynomials of degree 2n-1 exactly", "[el
     const GaussRule1D g = gauss_legendre(n);
     for (int d = 0; d <= 2 * n - 1; ++d) {
       double q = 0;
-      for (int i = 0; i < n; ++i) q += g.w[static_cast<std::size_t>(i)] * std::pow(g.x[static_cast<std::size_t>(i)], d);
+      for (int i = 0; i < n; ++i)
+        q += g.w[static_cast<std::size_t>(i)] * std::pow(g.x[static_cast<std::size_t>(i)], d);
       const double exact = d % 2 == 1 ? 0.0 : 2.0 / (d + 1);
       CHECK(q == Approx(exact).margin(1e-14));
     }
     // and not degree 2n (so the check above can tell rules apart)
     double q = 0;
-    for (int i = 0; i < n; ++i) q += g.w[static_cast<std::size_t>(i)] * std::pow(g.x[static_cast<std::size_t>(i)], 2 * n);
+    for (int i = 0; i < n; ++i)
+      q += g.w[static_cast<std::size_t>(i)] * std::pow(g.x[static_cast<std::size_t>(i)], 2 * n);
     CHECK(std::abs(q - 2.0 / (2 * n + 1)) > 1e-3);
   }
   CHECK_THROWS_AS(gauss_legendre(5), stratum::Error);
@@ -424,11 +438,10 @@ TEST_CASE("quad: stiffness has exactly the rigid-body zero-energy modes", "[elem
     int rule;
     Volumetric vol;
   };
-  const std::vector<Case> cases{{0x0F, 2, Volumetric::full},      {0x0F, 3, Volumetric::full},
-                                {0xFF, 3, Volumetric::full},      {0x3F, 3, Volumetric::full},
-                                {0x0F, 2, Volumetric::bbar},      {0xFF, 3, Volumetric::bbar},
-                                {0x0F, 2, Volumetric::selective}, {0xFF, 3, Volumetric::selective},
-                                {0x5F, 4, Volumetric::selective}};
+  const std::vector<Case> cases{
+      {0x0F, 2, Volumetric::full},      {0x0F, 3, Volumetric::full},      {0xFF, 3, Volumetric::full},
+      {0x3F, 3, Volumetric::full},      {0x0F, 2, Volumetric::bbar},      {0xFF, 3, Volumetric::bbar},
+      {0x0F, 2, Volumetric::selective}, {0xFF, 3, Volumetric::selective}, {0x5F, 4, Volumetric::selective}};
   for (const Case& c : cases) {
     for (double bulge : {0.0, 0.05}) {
       INFO("mask 0x" << std::hex << c.shape << std::dec << " rule " << c.rule << " volumetric "
@@ -459,11 +472,12 @@ TEST_CASE("quad: stiffness has exactly the rigid-body zero-energy modes", "[elem
   // Control: an 8-node quad with 2x2 Gauss points has one spurious mode, which the count must see.
   const QuadElement reduced(Options{Formulation::plane_strain, 2, Volumetric::full});
   const Eigen::MatrixX2d X8 = cell_coordinates(0xFF, distorted);
-  CHECK(count_zero_modes(evaluate_cell(reduced, 0xFF, X8, Eigen::VectorXd::Zero(16), mat).stiffness, 1e-10).first ==
-        4);
+  CHECK(count_zero_modes(evaluate_cell(reduced, 0xFF, X8, Eigen::VectorXd::Zero(16), mat).stiffness, 1e-10)
+            .first == 4);
 }
 
-TEST_CASE("quad: axisymmetric mean dilatation of 8-node cells has one conformal zero-energy mode", "[element]") {
+TEST_CASE("quad: axisymmetric mean dilatation of 8-node cells has one conformal zero-energy mode",
+          "[element]") {
   // dev(eps) = 0 for u = (2 r z, z^2 - r^2) (a conformal Killing field); adding c (r, z)
   // with c = -2 zbar (zbar = volume-weighted mean height) makes the mean dilatation zero.
   // Mean dilatation cannot see this field; the selective variant (pressure in Q1) can.
@@ -493,9 +507,11 @@ TEST_CASE("quad: axisymmetric mean dilatation of 8-node cells has one conformal 
   std::vector<std::array<int, 4>> quads;
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) quads.push_back({3 * j + i, 3 * j + i + 1, 3 * j + i + 4, 3 * j + i + 3});
-  const TestMesh m = add_midside_nodes(corners, quads, [](int) { return true; }, 0.0);
+  const TestMesh m = add_midside_nodes(
+      corners, quads, [](int) { return true; }, 0.0);
   StateStore states(total_points(bbar, m), 0);
-  const Assembly a = assemble(bbar, m, mat, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(2 * m.nodes.size())), states);
+  const Assembly a =
+      assemble(bbar, m, mat, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(2 * m.nodes.size())), states);
   CHECK(count_zero_modes(a.K, 1e-10).first == 1);
 }
 
@@ -505,8 +521,8 @@ TEST_CASE("quad: tangent equals the central-difference derivative of the interna
     for (Volumetric vol : {Volumetric::full, Volumetric::bbar, Volumetric::selective}) {
       for (unsigned shape : {0x0Fu, 0xFFu, 0x6Fu, 0x1Fu}) {
         for (int rule : {2, 3}) {
-          INFO("formulation " << static_cast<int>(form) << " volumetric " << static_cast<int>(vol) << " mask 0x"
-                              << std::hex << shape << std::dec << " rule " << rule);
+          INFO("formulation " << static_cast<int>(form) << " volumetric " << static_cast<int>(vol)
+                              << " mask 0x" << std::hex << shape << std::dec << " rule " << rule);
           const QuadElement el(Options{form, rule, vol});
           const Eigen::MatrixX2d X = cell_coordinates(shape, distorted, 0.04);
           const auto nd = 2 * X.rows();
@@ -519,8 +535,9 @@ TEST_CASE("quad: tangent equals the central-difference derivative of the interna
             Eigen::VectorXd up = u, um = u;
             up(j) += h;
             um(j) -= h;
-            Kfd.col(j) = (evaluate_cell(el, shape, X, up, mat).force - evaluate_cell(el, shape, X, um, mat).force) /
-                         (2 * h);
+            Kfd.col(j) =
+                (evaluate_cell(el, shape, X, up, mat).force - evaluate_cell(el, shape, X, um, mat).force) /
+                (2 * h);
           }
           CHECK((r.stiffness - Kfd).cwiseAbs().maxCoeff() < 1e-7 * r.stiffness.cwiseAbs().maxCoeff());
           // the material is non-symmetric, so the tangent must be too
@@ -554,7 +571,8 @@ TEST_CASE("quad: element passes committed stress and the strain increment to the
     REQUIRE(el.compute(cell, u, un, Constitutive{&mat, nullptr}, states, first, false, r).ok());
     ElementResult rn;
     StateStore scratch(4, 0);
-    REQUIRE(el.compute(cell, un, Eigen::VectorXd::Zero(8), Constitutive{&mat, nullptr}, scratch, 0, false, rn).ok());
+    REQUIRE(el.compute(cell, un, Eigen::VectorXd::Zero(8), Constitutive{&mat, nullptr}, scratch, 0, false, rn)
+                .ok());
     for (int i = 0; i < 4; ++i) {
       const auto p = states.trial(first + static_cast<std::size_t>(i));
       const Vec6 strain_n = scratch.trial(static_cast<std::size_t>(i)).strain(); // B u_n
@@ -579,23 +597,27 @@ TEST_CASE("quad: B-bar strains keep the deviator and replace the volumetric stra
   for (Formulation form : {Formulation::plane_strain, Formulation::axisymmetric}) {
     for (unsigned shape : {0x0Fu, 0xFFu, 0x9Fu}) {
       for (int rule : {2, 3}) {
-        INFO("formulation " << static_cast<int>(form) << " mask 0x" << std::hex << shape << std::dec << " rule "
-                            << rule);
+        INFO("formulation " << static_cast<int>(form) << " mask 0x" << std::hex << shape << std::dec
+                            << " rule " << rule);
         const Eigen::MatrixX2d X = cell_coordinates(shape, distorted, 0.04);
         Eigen::VectorXd u(2 * X.rows());
-        for (Eigen::Index i = 0; i < u.size(); ++i) u(i) = 1e-3 * std::cos(2.1 * static_cast<double>(i) + 0.5);
+        for (Eigen::Index i = 0; i < u.size(); ++i)
+          u(i) = 1e-3 * std::cos(2.1 * static_cast<double>(i) + 0.5);
         const Eigen::VectorXd un = Eigen::VectorXd::Zero(u.size());
         const int np = rule * rule;
         auto strains = [&](Volumetric vol) {
           const QuadElement el(Options{form, rule, vol});
           StateStore states(static_cast<std::size_t>(np), 0);
           ElementResult r;
-          REQUIRE(el.compute(ElementData{0, shape, &X}, u, un, Constitutive{&mat, nullptr}, states, 0, false, r).ok());
+          REQUIRE(
+              el.compute(ElementData{0, shape, &X}, u, un, Constitutive{&mat, nullptr}, states, 0, false, r)
+                  .ok());
           std::vector<Vec6> e;
           for (int i = 0; i < np; ++i) e.push_back(states.trial(static_cast<std::size_t>(i)).strain());
           return e;
         };
-        const auto full = strains(Volumetric::full), bbar = strains(Volumetric::bbar), sel = strains(Volumetric::selective);
+        const auto full = strains(Volumetric::full), bbar = strains(Volumetric::bbar),
+                   sel = strains(Volumetric::selective);
         Eigen::VectorXd w;
         QuadElement(Options{form, rule, Volumetric::full}).point_weights(ElementData{0, shape, &X}, w);
         double mean = 0;
@@ -622,7 +644,9 @@ TEST_CASE("quad: B-bar strains keep the deviator and replace the volumetric stra
 TEST_CASE("quad: plane-strain patch tests with distorted 4-, 8- and mixed-node meshes", "[patch]") {
   const stratum::linear_elastic::LinearElastic mat(stratum::linear_elastic::isotropic_stiffness(1.0e4, 0.3));
   // u = 1e-3 (1 + 2x + 3y), v = 1e-3 (-1 + 4x - 5y)
-  auto field = [](const Vec2& x) { return Vec2(1e-3 * (1 + 2 * x.x() + 3 * x.y()), 1e-3 * (-1 + 4 * x.x() - 5 * x.y())); };
+  auto field = [](const Vec2& x) {
+    return Vec2(1e-3 * (1 + 2 * x.x() + 3 * x.y()), 1e-3 * (-1 + 4 * x.x() - 5 * x.y()));
+  };
   Vec6 strain;
   strain << 2e-3, -5e-3, 0.0, 7e-3, 0.0, 0.0;
   struct MeshCase {
@@ -630,9 +654,12 @@ TEST_CASE("quad: plane-strain patch tests with distorted 4-, 8- and mixed-node m
     TestMesh mesh;
   };
   const std::vector<MeshCase> meshes{
-      {"quad4", macneal_harder_patch(0.0, [](int) { return false; }, 0.0)},
-      {"quad8 curved", macneal_harder_patch(0.0, [](int) { return true; }, 0.04)},
-      {"mixed transition", macneal_harder_patch(0.0, [](int e) { return e % 3 != 1; }, 0.03)},
+      {"quad4", macneal_harder_patch(
+                    0.0, [](int) { return false; }, 0.0)},
+      {"quad8 curved", macneal_harder_patch(
+                           0.0, [](int) { return true; }, 0.04)},
+      {"mixed transition", macneal_harder_patch(
+                               0.0, [](int e) { return e % 3 != 1; }, 0.03)},
   };
   for (const auto& mc : meshes) {
     for (Volumetric vol : {Volumetric::full, Volumetric::bbar, Volumetric::selective}) {
@@ -648,7 +675,8 @@ TEST_CASE("quad: plane-strain patch tests with distorted 4-, 8- and mixed-node m
     }
   }
   // the mixed mesh really contains transition elements
-  const TestMesh mixed = macneal_harder_patch(0.0, [](int e) { return e % 3 != 1; }, 0.03);
+  const TestMesh mixed = macneal_harder_patch(
+      0.0, [](int e) { return e % 3 != 1; }, 0.03);
   int transition = 0;
   for (unsigned s : mixed.shapes) transition += (s != 0x0Fu && s != 0xFFu) ? 1 : 0;
   CHECK(transition >= 3);
@@ -670,11 +698,26 @@ TEST_CASE("quad: axisymmetric patch tests with u_r = a r, u_z = b z + c", "[patc
       int first_rule;
     };
     const std::vector<MeshCase> meshes{
-        {"quad4", macneal_harder_patch(x0, [](int) { return false; }, 0.0), 2},
-        {"quad8 straight", macneal_harder_patch(x0, [](int) { return true; }, 0.0), 2},
-        {"mixed straight", macneal_harder_patch(x0, [](int e) { return e % 3 != 0; }, 0.0), 2},
-        {"quad8 curved", macneal_harder_patch(x0, [](int) { return true; }, 0.04), 3},
-        {"mixed curved", macneal_harder_patch(x0, [](int e) { return e % 3 != 0; }, 0.03), 3},
+        {"quad4",
+         macneal_harder_patch(
+             x0, [](int) { return false; }, 0.0),
+         2},
+        {"quad8 straight",
+         macneal_harder_patch(
+             x0, [](int) { return true; }, 0.0),
+         2},
+        {"mixed straight",
+         macneal_harder_patch(
+             x0, [](int e) { return e % 3 != 0; }, 0.0),
+         2},
+        {"quad8 curved",
+         macneal_harder_patch(
+             x0, [](int) { return true; }, 0.04),
+         3},
+        {"mixed curved",
+         macneal_harder_patch(
+             x0, [](int e) { return e % 3 != 0; }, 0.03),
+         3},
     };
     for (const auto& [name, mesh, first_rule] : meshes) {
       for (Volumetric vol : {Volumetric::full, Volumetric::bbar, Volumetric::selective}) {
@@ -699,7 +742,8 @@ TEST_CASE("quad: consistent body forces sum to the weight of the cell", "[elemen
     // polygon area, int x dA and int x^2 dA (shoelace-type formulas)
     double A = 0, Ix = 0, Ixx = 0;
     for (int i = 0; i < 4; ++i) {
-      const Vec2 p = distorted[static_cast<std::size_t>(i)], q = distorted[static_cast<std::size_t>((i + 1) % 4)];
+      const Vec2 p = distorted[static_cast<std::size_t>(i)],
+                 q = distorted[static_cast<std::size_t>((i + 1) % 4)];
       const double cr = p.x() * q.y() - q.x() * p.y();
       A += cr / 2;
       Ix += (p.x() + q.x()) * cr / 6;
@@ -761,7 +805,8 @@ TEST_CASE("quad: B-bar and selective integration remove volumetric locking of qu
     }
     std::vector<std::array<int, 4>> quads;
     for (int i = 0; i < ne; ++i) quads.push_back({2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1});
-    const TestMesh m = add_midside_nodes(corners, quads, [&](int) { return quad8; }, 0.0);
+    const TestMesh m = add_midside_nodes(
+        corners, quads, [&](int) { return quad8; }, 0.0);
     const QuadElement el(Options{Formulation::axisymmetric, rule, vol});
     const auto ndof = static_cast<Eigen::Index>(2 * m.nodes.size());
     StateStore states(total_points(el, m), 0);
@@ -791,8 +836,8 @@ TEST_CASE("quad: B-bar and selective integration remove volumetric locking of qu
   const double full8 = radial_displacement(true, Volumetric::full, 3);
   const double bbar8 = radial_displacement(true, Volumetric::bbar, 3);
   const double sel8 = radial_displacement(true, Volumetric::selective, 3);
-  INFO("exact " << exact << " quad4 full " << full4 << " bbar " << bbar4 << " selective " << sel4 << " quad8 full "
-                << full8 << " bbar " << bbar8 << " selective " << sel8);
+  INFO("exact " << exact << " quad4 full " << full4 << " bbar " << bbar4 << " selective " << sel4
+                << " quad8 full " << full8 << " bbar " << bbar8 << " selective " << sel8);
   CHECK(full4 < 0.5 * exact); // locked
   CHECK(bbar4 == Approx(exact).epsilon(0.01));
   CHECK(sel4 == Approx(exact).epsilon(0.01));
@@ -810,16 +855,19 @@ TEST_CASE("quad: failures are reported as outcomes naming the element and point"
   SECTION("inverted cell") {
     Eigen::MatrixX2d X(4, 2);
     X << 1, 0, 1, 1, 2, 1, 2, 0; // clockwise
-    const Outcome o = el.compute(ElementData{7, 0x0F, &X}, u, u, Constitutive{&mat, nullptr}, states, 0, true, r);
+    const Outcome o =
+        el.compute(ElementData{7, 0x0F, &X}, u, u, Constitutive{&mat, nullptr}, states, 0, true, r);
     CHECK(o.status == Status::non_finite);
-    CHECK_THAT(o.message, Catch::Contains("element 7") && Catch::Contains("Jacobian") && Catch::Contains("point 0"));
+    CHECK_THAT(o.message,
+               Catch::Contains("element 7") && Catch::Contains("Jacobian") && Catch::Contains("point 0"));
     Eigen::VectorXd f;
     CHECK_THROWS_WITH(el.body_force(ElementData{7, 0x0F, &X}, Vec2(0, -1), f), Catch::Contains("element 7"));
   }
   SECTION("cell across the axis in axisymmetry") {
     Eigen::MatrixX2d X(4, 2);
     X << -1, 0, 1, 0, 1, 1, -1, 1;
-    const Outcome o = el.compute(ElementData{8, 0x0F, &X}, u, u, Constitutive{&mat, nullptr}, states, 0, true, r);
+    const Outcome o =
+        el.compute(ElementData{8, 0x0F, &X}, u, u, Constitutive{&mat, nullptr}, states, 0, true, r);
     CHECK(o.status == Status::non_finite);
     CHECK_THAT(o.message, Catch::Contains("element 8") && Catch::Contains("radius"));
   }
@@ -834,7 +882,8 @@ TEST_CASE("quad: failures are reported as outcomes naming the element and point"
     Eigen::MatrixX2d X(4, 2);
     X << 1, 0, 2, 0, 2, 1, 1, 1;
     const QuadFailingMaterial bad;
-    const Outcome o = el.compute(ElementData{10, 0x0F, &X}, u, u, Constitutive{&bad, nullptr}, states, 0, true, r);
+    const Outcome o =
+        el.compute(ElementData{10, 0x0F, &X}, u, u, Constitutive{&bad, nullptr}, states, 0, true, r);
     CHECK(o.status == Status::material_failure);
     CHECK(o.message == "return mapping failed at element 10 point 0");
   }
@@ -843,14 +892,16 @@ TEST_CASE("quad: failures are reported as outcomes naming the element and point"
     X << 1, 0, 2, 0, 2, 1, 1, 1;
     Eigen::VectorXd bad = u;
     bad(3) = std::nan("");
-    const Outcome o = el.compute(ElementData{12, 0x0F, &X}, bad, u, Constitutive{&mat, nullptr}, states, 0, true, r);
+    const Outcome o =
+        el.compute(ElementData{12, 0x0F, &X}, bad, u, Constitutive{&mat, nullptr}, states, 0, true, r);
     CHECK(o.status == Status::non_finite);
     CHECK_THAT(o.message, Catch::Contains("element 12") && Catch::Contains("point"));
   }
   SECTION("mismatched coordinates") {
     Eigen::MatrixX2d X(5, 2);
     X.setZero();
-    CHECK_THROWS_AS(el.compute(ElementData{13, 0x0F, &X}, u, u, Constitutive{&mat, nullptr}, states, 0, true, r),
-                    stratum::Error);
+    CHECK_THROWS_AS(
+        el.compute(ElementData{13, 0x0F, &X}, u, u, Constitutive{&mat, nullptr}, states, 0, true, r),
+        stratum::Error);
   }
 }

@@ -40,8 +40,8 @@ void describe(const Registry& reg, PluginKind kind, const std::string& name, boo
   std::cout << to_string(kind) << " " << name << ": " << summary << "\n";
   if (full) std::cout << "  library: " << library << "\n";
   for (const auto& p : s.specs()) {
-    std::cout << "  " << std::left << std::setw(18) << p.name << " " << std::setw(8) << to_string(p.type) << " "
-              << std::setw(7) << (p.unit.empty() ? "-" : p.unit) << " " << p.allowed();
+    std::cout << "  " << std::left << std::setw(18) << p.name << " " << std::setw(8) << to_string(p.type)
+              << " " << std::setw(7) << (p.unit.empty() ? "-" : p.unit) << " " << p.allowed();
     if (p.fallback) {
       std::ostringstream d;
       std::visit(
@@ -104,12 +104,15 @@ int point(const std::vector<std::string>& args) {
     }
   }
   if (file.empty()) throw Error("no point file given (see stratum --help)");
-  if (out.empty()) out = (std::filesystem::path("results") / (std::filesystem::path(file).stem().string() + ".csv")).string();
+  if (out.empty())
+    out =
+        (std::filesystem::path("results") / (std::filesystem::path(file).stem().string() + ".csv")).string();
   const auto driver = PointDriver::from_file(file);
   const PointRun r = driver->run();
   PointDriver::write_csv(r, out); // what was computed is kept, also after a failure
   if (!r.outcome.ok()) {
-    std::cerr << "stratum: " << file << ": " << to_string(r.outcome.status) << ": " << r.outcome.message << "\n";
+    std::cerr << "stratum: " << file << ": " << to_string(r.outcome.status) << ": " << r.outcome.message
+              << "\n";
     return 2;
   }
   std::cout << "done: " << r.rows.size() - 1 << " steps\nresults: " << out << "\n";
@@ -143,21 +146,23 @@ int run(const std::vector<std::string>& args, bool check_only) {
       for (double r : rep.residual_norms) std::cerr << " " << r;
       std::cerr << "\n";
     } else if (tty) {
-      std::cerr << "\rstep " << step << "/" << steps << "  load factor " << std::fixed << std::setprecision(4) << lambda
-                << "  iterations " << rep.iterations << std::defaultfloat << std::flush;
+      std::cerr << "\rstep " << step << "/" << steps << "  load factor " << std::fixed << std::setprecision(4)
+                << lambda << "  iterations " << rep.iterations << std::defaultfloat << std::flush;
     }
   };
   auto analysis = Analysis::from_file(scene, opts);
   if (check_only) {
     const auto& m = analysis->model();
     std::cout << scene << ": ok (" << m.mesh.nodes.size() << " nodes, " << m.mesh.cells.size() << " cells, "
-              << m.dofs.free_count << " unknowns, " << analysis->opened_libraries().size() << " plugin libraries)\n";
+              << m.dofs.free_count << " unknowns, " << analysis->opened_libraries().size()
+              << " plugin libraries)\n";
     return 0;
   }
   const RunSummary s = analysis->run();
   if (tty && !verbose) std::cerr << "\n";
   if (!s.outcome.ok()) {
-    std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message << "\n";
+    std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message
+              << "\n";
     return 2;
   }
   std::cout << "done: " << s.steps_done << " steps";

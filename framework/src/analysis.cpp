@@ -65,7 +65,9 @@ Schema analysis_schema() {
       .defaults_to(std::string("newton"));
   s.text("linear_solver", linear_solver_names(), "sparse direct solver; auto = by size and symmetry")
       .defaults_to(std::string("auto"));
-  s.integer("steps", "-", "number of equal load increments from load factor 0 to 1").at_least(1).defaults_to(1LL);
+  s.integer("steps", "-", "number of equal load increments from load factor 0 to 1")
+      .at_least(1)
+      .defaults_to(1LL);
   s.integer("max_cutbacks", "-", "how many times a failed step may be halved before the run stops")
       .at_least(0)
       .at_most(30)
@@ -76,13 +78,17 @@ Schema analysis_schema() {
 Schema convergence_schema() {
   Schema s;
   Convergence c;
-  s.real("force_rtol", "-", "residual force relative to the force scale").greater_than(0).defaults_to(c.force_rtol);
+  s.real("force_rtol", "-", "residual force relative to the force scale")
+      .greater_than(0)
+      .defaults_to(c.force_rtol);
   s.real("force_atol", "kN", "absolute residual force bound").at_least(0).defaults_to(c.force_atol);
   s.real("disp_rtol", "-", "displacement correction relative to the step's displacement")
       .at_least(0)
       .defaults_to(c.disp_rtol);
   s.real("disp_atol", "m", "absolute displacement correction bound").at_least(0).defaults_to(c.disp_atol);
-  s.real("energy_rtol", "-", "energy criterion (4.21) of the thesis; 0 disables it").at_least(0).defaults_to(0.0);
+  s.real("energy_rtol", "-", "energy criterion (4.21) of the thesis; 0 disables it")
+      .at_least(0)
+      .defaults_to(0.0);
   s.integer("max_iterations", "-", "iterations per step before it counts as failed")
       .at_least(1)
       .defaults_to(static_cast<long long>(c.max_iterations));
@@ -119,7 +125,9 @@ Schema output_schema() {
   Schema s;
   s.boolean("vtk", "write .vtu/.pvd files").defaults_to(true);
   s.boolean("integration_points", "write the integration-point cloud (.vtp)").defaults_to(true);
-  s.integer("every", "-", "write every n-th step (the last step is always written)").at_least(1).defaults_to(1LL);
+  s.integer("every", "-", "write every n-th step (the last step is always written)")
+      .at_least(1)
+      .defaults_to(1LL);
   return s;
 }
 
@@ -136,7 +144,8 @@ const toml::table empty_table;
 const toml::table& optional_table(const toml::table& root, std::string_view key) {
   const toml::node* n = root.get(key);
   if (!n) return empty_table;
-  if (!n->is_table()) throw Error(location(*n), std::string(key) + " must be a table, got " + io::type_name(*n));
+  if (!n->is_table())
+    throw Error(location(*n), std::string(key) + " must be a table, got " + io::type_name(*n));
   return *n->as_table();
 }
 
@@ -146,9 +155,11 @@ std::vector<const toml::table*> table_list(const toml::table& root, std::string_
   const toml::node* n = root.get(key);
   if (!n) return v;
   const auto* a = n->as_array();
-  if (!a) throw Error(location(*n), std::string(key) + " must be an array of tables [[" + std::string(key) + "]]");
+  if (!a)
+    throw Error(location(*n), std::string(key) + " must be an array of tables [[" + std::string(key) + "]]");
   for (const auto& e : *a) {
-    if (!e.is_table()) throw Error(location(e), std::string(key) + " entries must be tables [[" + std::string(key) + "]]");
+    if (!e.is_table())
+      throw Error(location(e), std::string(key) + " entries must be tables [[" + std::string(key) + "]]");
     v.push_back(e.as_table());
   }
   return v;
@@ -184,9 +195,9 @@ struct Analysis::Impl {
 
 void Analysis::Impl::build(const toml::table& root) {
   // ---- top level
-  static const std::vector<std::string_view> top_keys{"title",  "analysis", "convergence", "solver", "mesh",
-                                                      "materials", "domains", "constraints", "loads", "output",
-                                                      "plugins"};
+  static const std::vector<std::string_view> top_keys{"title", "analysis",  "convergence", "solver",
+                                                      "mesh",  "materials", "domains",     "constraints",
+                                                      "loads", "output",    "plugins"};
   for (auto&& [key, value] : root) {
     const std::string k(key.str());
     if (std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end()) {
@@ -201,14 +212,16 @@ void Analysis::Impl::build(const toml::table& root) {
   }
 
   // ---- plugins: search path
-  std::vector<std::string> dirs = options.plugin_dirs.empty() ? PluginCatalog::default_directories() : options.plugin_dirs;
+  std::vector<std::string> dirs =
+      options.plugin_dirs.empty() ? PluginCatalog::default_directories() : options.plugin_dirs;
   {
     Schema s;
     s.real_list("path", "-", "unused").defaults_to(std::vector<double>{});
     const auto& pt = optional_table(root, "plugins");
     for (auto&& [key, value] : pt) {
       if (key.str() != "path")
-        throw Error(location(key.source()), "[plugins] unknown key '" + std::string(key.str()) + "'; allowed: path");
+        throw Error(location(key.source()),
+                    "[plugins] unknown key '" + std::string(key.str()) + "'; allowed: path");
       const auto* a = value.as_array();
       if (!a) throw Error(location(value), "[plugins] path must be an array of directory strings");
       std::vector<std::string> extra;
@@ -225,7 +238,8 @@ void Analysis::Impl::build(const toml::table& root) {
 
   // ---- analysis, convergence, output
   const auto ap = check_table(optional_table(root, "analysis"), analysis_schema(), "[analysis]");
-  model.formulation = ap.text("formulation") == "axisymmetric" ? Formulation::axisymmetric : Formulation::plane_strain;
+  model.formulation =
+      ap.text("formulation") == "axisymmetric" ? Formulation::axisymmetric : Formulation::plane_strain;
   linear_solver = ap.text("linear_solver");
   steps = static_cast<int>(ap.integer("steps"));
   max_cutbacks = static_cast<int>(ap.integer("max_cutbacks"));
@@ -247,7 +261,8 @@ void Analysis::Impl::build(const toml::table& root) {
     try {
       catalog->require(registry, PluginKind::solver, name);
     } catch (const Error& e) {
-      throw Error(ap.where("solver").known() ? ap.where("solver") : location(root), "[analysis] solver = \"" + name + "\": " + e.message());
+      throw Error(ap.where("solver").known() ? ap.where("solver") : location(root),
+                  "[analysis] solver = \"" + name + "\": " + e.message());
     }
     const auto& f = registry.solver(name);
     solver = f.create(check_table(optional_table(root, "solver"), f.schema, "[solver]"));
@@ -260,10 +275,12 @@ void Analysis::Impl::build(const toml::table& root) {
     if (mp.text("generator") == "blocks") {
       const int npc = static_cast<int>(mp.integer("nodes_per_cell"));
       if (npc != 4 && npc != 8)
-        throw Error(mp.where("nodes_per_cell"), "[mesh] nodes_per_cell = " + std::to_string(npc) + " is not allowed; allowed: 4 or 8");
+        throw Error(mp.where("nodes_per_cell"),
+                    "[mesh] nodes_per_cell = " + std::to_string(npc) + " is not allowed; allowed: 4 or 8");
       std::vector<Block> blocks;
       const auto list = table_list(mt, "blocks");
-      if (list.empty()) throw Error(location(mt), "[mesh] generator = \"blocks\" needs at least one [[mesh.blocks]]");
+      if (list.empty())
+        throw Error(location(mt), "[mesh] generator = \"blocks\" needs at least one [[mesh.blocks]]");
       for (std::size_t i = 0; i < list.size(); ++i) {
         const std::string ctx = "[[mesh.blocks]] #" + std::to_string(i + 1);
         const auto bp = check_table(*list[i], block_schema(), ctx);
@@ -287,8 +304,10 @@ void Analysis::Impl::build(const toml::table& root) {
           x = Eigen::Vector2d(r * std::cos(t), r * std::sin(t));
         }
     } else {
-      if (mt.get("blocks")) throw Error(location(*mt.get("blocks")), "[mesh] blocks are only used with generator = \"blocks\"");
-      if (mp.text("file").empty()) throw Error(location(mt), "[mesh] generator = \"gmsh\" needs file = \"...\"");
+      if (mt.get("blocks"))
+        throw Error(location(*mt.get("blocks")), "[mesh] blocks are only used with generator = \"blocks\"");
+      if (mp.text("file").empty())
+        throw Error(location(mt), "[mesh] generator = \"gmsh\" needs file = \"...\"");
       fs::path f = mp.text("file");
       if (f.is_relative()) f = fs::path(path).parent_path() / f;
       model.mesh = read_gmsh(f.string());
@@ -298,7 +317,8 @@ void Analysis::Impl::build(const toml::table& root) {
       for (std::size_t n = 0; n < model.mesh.nodes.size(); ++n)
         if (model.mesh.nodes[n].x() < -1e-12)
           throw Error(location(mt), "[mesh] node " + std::to_string(n) + " has a negative radius x = " +
-                                        std::to_string(model.mesh.nodes[n].x()) + " in an axisymmetric scene");
+                                        std::to_string(model.mesh.nodes[n].x()) +
+                                        " in an axisymmetric scene");
   }
 
   // ---- materials
@@ -334,12 +354,14 @@ void Analysis::Impl::build(const toml::table& root) {
     const std::string material = require_string(t, "material", ctx);
     auto cs = model.mesh.cell_sets.find(cells);
     if (cs == model.mesh.cell_sets.end())
-      throw Error(location(*t.get("cells")), ctx + " cells = \"" + cells + "\" is not a cell set of the mesh; known: " +
-                                                 key_list(model.mesh.cell_sets));
+      throw Error(location(*t.get("cells")),
+                  ctx + " cells = \"" + cells +
+                      "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
     auto mat = material_by_name.find(material);
     if (mat == material_by_name.end())
-      throw Error(location(*t.get("material")), ctx + " material = \"" + material + "\" is not defined; defined: " +
-                                                    key_list(material_by_name));
+      throw Error(location(*t.get("material")),
+                  ctx + " material = \"" + material +
+                      "\" is not defined; defined: " + key_list(material_by_name));
     try {
       catalog->require(registry, PluginKind::element, element);
     } catch (const Error& e) {
@@ -351,8 +373,8 @@ void Analysis::Impl::build(const toml::table& root) {
     auto ep = check_table(t, f.schema, ctx, {"cells", "element", "material"});
     if (f.schema.find("formulation")) {
       if (const auto* fv = t.get("formulation"); fv && ep.text("formulation") != form)
-        throw Error(location(*fv), ctx + " formulation = " + show(*fv) + " contradicts [analysis] formulation = \"" +
-                                       form + "\"");
+        throw Error(location(*fv), ctx + " formulation = " + show(*fv) +
+                                       " contradicts [analysis] formulation = \"" + form + "\"");
       ep.set("formulation", form, ep.where("formulation"));
     }
     elements.push_back(f.create(ep));
@@ -366,7 +388,8 @@ void Analysis::Impl::build(const toml::table& root) {
     for (std::size_t c = 0; c < dm.cells.size(); ++c) {
       const int cell = dm.cells[c];
       if (owner[cell] >= 0)
-        throw Error(location(*t.get("cells")), ctx + " cell " + std::to_string(cell) + " already belongs to [[domains]] #" +
+        throw Error(location(*t.get("cells")), ctx + " cell " + std::to_string(cell) +
+                                                   " already belongs to [[domains]] #" +
                                                    std::to_string(owner[cell] + 1));
       owner[cell] = static_cast<int>(i);
       const unsigned shape = model.mesh.cells[cell].shape();
@@ -395,8 +418,9 @@ void Analysis::Impl::build(const toml::table& root) {
     const std::string set = require_string(*t, "nodes", ctx);
     auto ns = model.mesh.node_sets.find(set);
     if (ns == model.mesh.node_sets.end())
-      throw Error(location(*t->get("nodes")), "[[constraints]] nodes = \"" + set + "\" is not a node set of the mesh; known: " +
-                                                  key_list(model.mesh.node_sets));
+      throw Error(location(*t->get("nodes")),
+                  "[[constraints]] nodes = \"" + set +
+                      "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets));
     Schema s;
     s.real("ux", "m", "prescribed x (radial) displacement at load factor 1").defaults_to(0.0);
     s.real("uy", "m", "prescribed y (vertical) displacement at load factor 1").defaults_to(0.0);
@@ -415,7 +439,9 @@ void Analysis::Impl::build(const toml::table& root) {
         model.prescribed[static_cast<Eigen::Index>(d)] = p.real(k);
       }
     }
-    if (!any) throw Error(location(*t), "[[constraints]] nodes = \"" + set + "\" constrains nothing; give ux and/or uy");
+    if (!any)
+      throw Error(location(*t),
+                  "[[constraints]] nodes = \"" + set + "\" constrains nothing; give ux and/or uy");
   }
   // Nodes that no domain uses carry no stiffness: fix them.
   std::vector<char> used(model.mesh.nodes.size(), 0);
@@ -440,8 +466,9 @@ void Analysis::Impl::build(const toml::table& root) {
       const auto p = check_table(*t, s, "[[loads]] type = \"pressure\"", {"type"});
       auto es = model.mesh.edge_sets.find(p.text("edges"));
       if (es == model.mesh.edge_sets.end())
-        throw Error(p.where("edges"), "[[loads]] edges = \"" + p.text("edges") + "\" is not an edge set of the mesh; known: " +
-                                          key_list(model.mesh.edge_sets));
+        throw Error(p.where("edges"),
+                    "[[loads]] edges = \"" + p.text("edges") +
+                        "\" is not an edge set of the mesh; known: " + key_list(model.mesh.edge_sets));
       add_edge_pressure(model.mesh, es->second, p.real("p"), model.formulation, model.load_ref);
     } else if (type == "force") {
       Schema s;
@@ -451,8 +478,9 @@ void Analysis::Impl::build(const toml::table& root) {
       const auto p = check_table(*t, s, "[[loads]] type = \"force\"", {"type"});
       auto ns = model.mesh.node_sets.find(p.text("nodes"));
       if (ns == model.mesh.node_sets.end())
-        throw Error(p.where("nodes"), "[[loads]] nodes = \"" + p.text("nodes") + "\" is not a node set of the mesh; known: " +
-                                          key_list(model.mesh.node_sets));
+        throw Error(p.where("nodes"),
+                    "[[loads]] nodes = \"" + p.text("nodes") +
+                        "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets));
       for (int n : ns->second) {
         model.load_ref[2 * n] += p.real("fx");
         model.load_ref[2 * n + 1] += p.real("fy");
@@ -465,8 +493,8 @@ void Analysis::Impl::build(const toml::table& root) {
       auto cs = model.mesh.cell_sets.find(p.text("cells"));
       if (cs == model.mesh.cell_sets.end())
         throw Error(p.where("cells").known() ? p.where("cells") : location(*t),
-                    "[[loads]] cells = \"" + p.text("cells") + "\" is not a cell set of the mesh; known: " +
-                        key_list(model.mesh.cell_sets));
+                    "[[loads]] cells = \"" + p.text("cells") +
+                        "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
       std::set<int> in_set(cs->second.begin(), cs->second.end());
       const Vec2 b(0.0, -p.real("gamma"));
       std::vector<int> nodes;
@@ -478,11 +506,13 @@ void Analysis::Impl::build(const toml::table& root) {
           model.cell_nodes(c, nodes, x);
           dm.element->body_force(ElementData{c, model.mesh.cells[c].shape(), &x}, b, fe);
           for (std::size_t a = 0; a < nodes.size(); ++a)
-            for (int k = 0; k < 2; ++k) model.load_ref[2 * nodes[a] + k] += fe[static_cast<Eigen::Index>(2 * a) + k];
+            for (int k = 0; k < 2; ++k)
+              model.load_ref[2 * nodes[a] + k] += fe[static_cast<Eigen::Index>(2 * a) + k];
         }
     } else {
-      throw Error(location(*t->get("type")), "[[loads]] type = \"" + type +
-                                                 "\" is not allowed; allowed: one of: pressure, force, gravity");
+      throw Error(location(*t->get("type")),
+                  "[[loads]] type = \"" + type +
+                      "\" is not allowed; allowed: one of: pressure, force, gravity");
     }
   }
 }
@@ -545,7 +575,8 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
 Analysis::Analysis(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Analysis::~Analysis() = default;
 
-std::unique_ptr<Analysis> Analysis::from_string(const std::string& text, const std::string& path, RunOptions options) {
+std::unique_ptr<Analysis> Analysis::from_string(const std::string& text, const std::string& path,
+                                                RunOptions options) {
   toml::table root;
   try {
     root = toml::parse(text, path);
@@ -561,7 +592,8 @@ std::unique_ptr<Analysis> Analysis::from_string(const std::string& text, const s
 
 std::unique_ptr<Analysis> Analysis::from_file(const std::string& path, RunOptions options) {
   std::ifstream in(path, std::ios::binary);
-  if (!in || fs::is_directory(path)) throw Error(SourceLocation{path, 0, 0}, "cannot open scene file '" + path + "'");
+  if (!in || fs::is_directory(path))
+    throw Error(SourceLocation{path, 0, 0}, "cannot open scene file '" + path + "'");
   std::stringstream ss;
   ss << in.rdbuf();
   return from_string(ss.str(), path, std::move(options));
@@ -587,7 +619,8 @@ RunSummary Analysis::run() {
 
   std::unique_ptr<VtkSeriesWriter> writer;
   if (s.options.write_output && s.vtk) {
-    summary.out_dir = s.options.out_dir.empty() ? (fs::path("results") / fs::path(s.path).stem()).string() : s.options.out_dir;
+    summary.out_dir = s.options.out_dir.empty() ? (fs::path("results") / fs::path(s.path).stem()).string()
+                                                : s.options.out_dir;
     writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string());
     s.write_step(*writer, 0.0);
   }
@@ -610,8 +643,8 @@ RunSummary Analysis::run() {
       summary.reports.push_back(rep);
       if (cut_level >= s.max_cutbacks) {
         std::ostringstream msg;
-        msg << "step from load factor " << req.lambda_n << " to " << req.lambda << " failed: " << rep.outcome.message
-            << " (gave up after " << cut_level << " cut-backs)";
+        msg << "step from load factor " << req.lambda_n << " to " << req.lambda
+            << " failed: " << rep.outcome.message << " (gave up after " << cut_level << " cut-backs)";
         summary.outcome = Outcome::failure(rep.outcome.status, msg.str());
         return summary;
       }

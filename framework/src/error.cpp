@@ -16,12 +16,18 @@ Error::Error(SourceLocation where, const std::string& message)
 
 const char* to_string(Status s) {
   switch (s) {
-  case Status::ok: return "ok";
-  case Status::not_converged: return "not converged";
-  case Status::material_failure: return "material failure";
-  case Status::singular: return "singular matrix";
-  case Status::non_finite: return "NaN or Inf";
-  case Status::diverged: return "diverged";
+  case Status::ok:
+    return "ok";
+  case Status::not_converged:
+    return "not converged";
+  case Status::material_failure:
+    return "material failure";
+  case Status::singular:
+    return "singular matrix";
+  case Status::non_finite:
+    return "NaN or Inf";
+  case Status::diverged:
+    return "diverged";
   }
   return "unknown";
 }

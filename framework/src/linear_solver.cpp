@@ -31,8 +31,9 @@ public:
     }
     solver_.factorize(a);
     if (solver_.info() != Eigen::Success)
-      return Outcome::failure(Status::singular, name_ + ": factorization failed (matrix singular or not positive "
-                                                        "definite: check the constraints)");
+      return Outcome::failure(Status::singular, name_ +
+                                                    ": factorization failed (matrix singular or not positive "
+                                                    "definite: check the constraints)");
     return {};
   }
   Outcome solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
@@ -55,7 +56,8 @@ const std::vector<std::string>& linear_solver_names() {
   return names;
 }
 
-std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name, bool symmetric, Eigen::Index unknowns) {
+std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name, bool symmetric,
+                                                 Eigen::Index unknowns) {
   std::string n = name;
   if (n == "auto") {
     // Below a few thousand unknowns the supernodal machinery costs more than it saves
@@ -63,15 +65,17 @@ std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name, bool s
     constexpr Eigen::Index small = 3000;
     n = symmetric ? (unknowns < small ? "eigen_ldlt" : "cholmod") : "umfpack";
   }
-  if (n == "cholmod") return std::make_unique<EigenBacked<Eigen::CholmodDecomposition<SparseMatrix, Eigen::Lower>>>(n);
+  if (n == "cholmod")
+    return std::make_unique<EigenBacked<Eigen::CholmodDecomposition<SparseMatrix, Eigen::Lower>>>(n);
   if (n == "umfpack") return std::make_unique<EigenBacked<Eigen::UmfPackLU<SparseMatrix>>>(n);
   if (n == "eigen_ldlt")
-    return std::make_unique<EigenBacked<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>>>>(n);
-  if (n == "eigen_lu") return std::make_unique<EigenBacked<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>>>(n);
+    return std::make_unique<
+        EigenBacked<Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>>>>(n);
+  if (n == "eigen_lu")
+    return std::make_unique<EigenBacked<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>>>(n);
   std::string known;
   for (const auto& k : linear_solver_names()) known += (known.empty() ? "" : ", ") + k;
   throw Error("unknown linear solver '" + name + "'; known: " + known);
 }
 
 } // namespace stratum
-

@@ -25,7 +25,8 @@ void Model::cell_nodes(int cell, std::vector<int>& nodes, Eigen::MatrixX2d& x) c
   for (int n : mesh.cells[cell].nodes)
     if (n >= 0) nodes.push_back(n);
   x.resize(static_cast<Eigen::Index>(nodes.size()), 2);
-  for (std::size_t i = 0; i < nodes.size(); ++i) x.row(static_cast<Eigen::Index>(i)) = mesh.nodes[nodes[i]].transpose();
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    x.row(static_cast<Eigen::Index>(i)) = mesh.nodes[nodes[i]].transpose();
 }
 
 void Model::expand(const Eigen::VectorXd& free, double lam, Eigen::VectorXd& full) const {
@@ -119,7 +120,8 @@ Assembler::Assembler(const Model& model) {
       ldof.clear();
       for (int node : model.mesh.cells[dm.cells[ci]].nodes)
         if (node >= 0)
-          for (int c = 0; c < DofMap::per_node; ++c) ldof.push_back(model.dofs.eq[node * DofMap::per_node + c]);
+          for (int c = 0; c < DofMap::per_node; ++c)
+            ldof.push_back(model.dofs.eq[node * DofMap::per_node + c]);
       const std::size_t n = ldof.size();
       int* out = sc.data() + st[ci];
       for (std::size_t b = 0; b < n; ++b) {
@@ -139,7 +141,8 @@ Assembler::Assembler(const Model& model) {
   }
 }
 
-Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::VectorXd& f_int, SparseMatrix* k) const {
+Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::VectorXd& f_int,
+                            SparseMatrix* k) const {
   f_int.setZero(model.dofs.total());
   double* values = nullptr;
   if (k) {
@@ -167,7 +170,8 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
           une[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = model.u[g];
         }
       ElementData data{cell, model.mesh.cells[cell].shape(), &x};
-      Outcome o = dm.element->compute(data, ue, une, dm.law, dm.states, dm.first_point[ci], k != nullptr, res);
+      Outcome o =
+          dm.element->compute(data, ue, une, dm.law, dm.states, dm.first_point[ci], k != nullptr, res);
       if (!o.ok()) return o;
       for (std::size_t i = 0; i < nodes.size(); ++i)
         for (int c = 0; c < DofMap::per_node; ++c)
@@ -186,7 +190,8 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
   return {};
 }
 
-void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f, Eigen::VectorXd& out) {
+void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f,
+                       Eigen::VectorXd& out) {
   // 4-point Gauss-Legendre on [-1, 1]: exact for the polynomial integrands of straight and
   // parabolic edges with the 2 pi r weight.
   constexpr double g[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};

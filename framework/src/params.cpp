@@ -7,11 +7,16 @@ namespace stratum {
 
 const char* to_string(ParamType t) {
   switch (t) {
-  case ParamType::real: return "number";
-  case ParamType::integer: return "integer";
-  case ParamType::boolean: return "boolean";
-  case ParamType::text: return "string";
-  case ParamType::real_list: return "array of numbers";
+  case ParamType::real:
+    return "number";
+  case ParamType::integer:
+    return "integer";
+  case ParamType::boolean:
+    return "boolean";
+  case ParamType::text:
+    return "string";
+  case ParamType::real_list:
+    return "array of numbers";
   }
   return "?";
 }

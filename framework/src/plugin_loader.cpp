@@ -26,7 +26,8 @@ struct PluginCatalog::Library {
 
 namespace {
 bool parse_kind(const std::string& s, PluginKind& k) {
-  for (PluginKind c : {PluginKind::material, PluginKind::element, PluginKind::contact_law, PluginKind::solver})
+  for (PluginKind c :
+       {PluginKind::material, PluginKind::element, PluginKind::contact_law, PluginKind::solver})
     if (s == to_string(c)) {
       k = c;
       return true;
@@ -63,8 +64,8 @@ PluginCatalog::PluginCatalog(std::vector<std::string> directories) : dirs_(std::
                           "'; expected '<kind> <name>' with kind material, element, contact_law or solver");
         auto key = std::make_pair(kind, name);
         if (auto it = here.find(key); it != here.end()) {
-          conflicts_.push_back(std::string("duplicate ") + kind_s + " '" + name + "': provided by " + it->second +
-                               " and by " + lib.string());
+          conflicts_.push_back(std::string("duplicate ") + kind_s + " '" + name + "': provided by " +
+                               it->second + " and by " + lib.string());
           continue;
         }
         here[key] = lib.string();
@@ -131,8 +132,8 @@ void PluginCatalog::require(Registry& registry, PluginKind kind, const std::stri
   for (const auto& n : known(kind)) known_names += (known_names.empty() ? "" : ", ") + n;
   std::string dirs;
   for (const auto& d : dirs_) dirs += (dirs.empty() ? "" : ":") + d;
-  throw Error(std::string("unknown ") + to_string(kind) + " '" + name + "'; known: " +
-              (known_names.empty() ? "(none)" : known_names) + " (plugin path " + dirs + ")");
+  throw Error(std::string("unknown ") + to_string(kind) + " '" + name +
+              "'; known: " + (known_names.empty() ? "(none)" : known_names) + " (plugin path " + dirs + ")");
 }
 
 void PluginCatalog::require_all(Registry& registry) {
@@ -155,12 +156,14 @@ void PluginCatalog::open(Registry& registry, const std::string& path) {
   auto abi = reinterpret_cast<AbiFn>(dlsym(lib->handle, "stratum_plugin_abi_version"));
   auto reg = reinterpret_cast<RegisterFn>(dlsym(lib->handle, "stratum_register"));
   if (!abi || !reg)
-    throw Error("plugin library " + path +
-                " does not export stratum_plugin_abi_version and stratum_register (use the STRATUM_PLUGIN macro)");
+    throw Error(
+        "plugin library " + path +
+        " does not export stratum_plugin_abi_version and stratum_register (use the STRATUM_PLUGIN macro)");
   const int version = abi();
   if (version != STRATUM_PLUGIN_ABI_VERSION)
     throw Error("plugin library " + path + " was built for plugin ABI version " + std::to_string(version) +
-                ", this Stratum expects version " + std::to_string(STRATUM_PLUGIN_ABI_VERSION) + "; rebuild the plugin");
+                ", this Stratum expects version " + std::to_string(STRATUM_PLUGIN_ABI_VERSION) +
+                "; rebuild the plugin");
   registry.set_current_library(path);
   reg(registry);
   registry.set_current_library("(built in)");

@@ -43,7 +43,8 @@ PointPath make_path(const std::string& type, const Params& p, const toml::table&
   } else if (type == "isotropic") {
     const bool has_p = t.get("pressure") != nullptr, has_e = t.get("volumetric_strain") != nullptr;
     if (has_p == has_e)
-      throw Error(location(t), ctx + " type = \"isotropic\" needs exactly one of pressure or volumetric_strain");
+      throw Error(location(t),
+                  ctx + " type = \"isotropic\" needs exactly one of pressure or volumetric_strain");
     if (has_p) {
       stress({0, 1, 2, 3, 4, 5});
       const double dp = p.real("pressure"); // compression positive change of p
@@ -87,13 +88,14 @@ Schema path_schema(const std::string& type) {
   }
   if (type == "simple_shear") s.real("shear_strain", "-", "engineering shear strain gamma_xy of the segment");
   if (type == "mixed") {
-    s.real_list("increment", "- or kPa", "six increments: strain for strain-controlled, stress for stress-controlled");
+    s.real_list("increment", "- or kPa",
+                "six increments: strain for strain-controlled, stress for stress-controlled");
   }
   return s;
 }
 
 const std::vector<std::string> path_types{"triaxial_drained", "triaxial_undrained", "oedometer",
-                                          "isotropic", "simple_shear", "mixed"};
+                                          "isotropic",        "simple_shear",       "mixed"};
 
 } // namespace
 
@@ -111,7 +113,8 @@ const std::vector<PointPath>& PointDriver::paths() const { return impl_->paths; 
 
 std::unique_ptr<PointDriver> PointDriver::from_file(const std::string& path, std::vector<std::string> dirs) {
   std::ifstream in(path, std::ios::binary);
-  if (!in || fs::is_directory(path)) throw Error(SourceLocation{path, 0, 0}, "cannot open point file '" + path + "'");
+  if (!in || fs::is_directory(path))
+    throw Error(SourceLocation{path, 0, 0}, "cannot open point file '" + path + "'");
   std::stringstream ss;
   ss << in.rdbuf();
   return from_string(ss.str(), path, std::move(dirs));
@@ -146,7 +149,8 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
   Schema init;
   init.real_list("stress", "kPa", "initial stress xx, yy, zz, xy, yz, zx (tension positive)")
       .defaults_to(std::vector<double>{0, 0, 0, 0, 0, 0});
-  init.real("p", "kPa", "initial isotropic pressure, compression positive (instead of stress)").defaults_to(0.0);
+  init.real("p", "kPa", "initial isotropic pressure, compression positive (instead of stress)")
+      .defaults_to(0.0);
   const toml::table empty;
   const auto* it = root.get("initial") ? root.get("initial")->as_table() : &empty;
   if (!it) throw Error(location(*root.get("initial")), "[initial] must be a table");
@@ -154,13 +158,15 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
   if (it->get("stress") && it->get("p"))
     throw Error(location(*it), "[initial] give either stress or p, not both");
   const auto& s = ip.real_list("stress");
-  if (s.size() != 6) throw Error(ip.where("stress"), "[initial] stress must have 6 numbers (xx, yy, zz, xy, yz, zx)");
+  if (s.size() != 6)
+    throw Error(ip.where("stress"), "[initial] stress must have 6 numbers (xx, yy, zz, xy, yz, zx)");
   for (int i = 0; i < 6; ++i) impl->initial[i] = s[static_cast<std::size_t>(i)];
   if (it->get("p")) impl->initial << -ip.real("p"), -ip.real("p"), -ip.real("p"), 0, 0, 0;
 
   const auto* pn = root.get("paths");
   const auto* pa = pn ? pn->as_array() : nullptr;
-  if (!pa || pa->empty()) throw Error(pn ? location(*pn) : location(root), "point file needs at least one [[paths]]");
+  if (!pa || pa->empty())
+    throw Error(pn ? location(*pn) : location(root), "point file needs at least one [[paths]]");
   for (std::size_t i = 0; i < pa->size(); ++i) {
     const auto* t = pa->get(i)->as_table();
     const std::string ctx = "[[paths]] #" + std::to_string(i + 1);
@@ -169,10 +175,12 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
     if (std::find(path_types.begin(), path_types.end(), type) == path_types.end()) {
       std::string allowed;
       for (const auto& k : path_types) allowed += (allowed.empty() ? "" : ", ") + k;
-      throw Error(location(*t->get("type")), ctx + " type = \"" + type + "\" is not allowed; allowed: one of: " + allowed);
+      throw Error(location(*t->get("type")),
+                  ctx + " type = \"" + type + "\" is not allowed; allowed: one of: " + allowed);
     }
-    const auto p = check_table(*t, path_schema(type), ctx, type == "mixed" ? std::vector<std::string_view>{"control"}
-                                                                          : std::vector<std::string_view>{});
+    const auto p = check_table(*t, path_schema(type), ctx,
+                               type == "mixed" ? std::vector<std::string_view>{"control"}
+                                               : std::vector<std::string_view>{});
     impl->paths.push_back(make_path(type, p, *t, ctx));
   }
   return std::unique_ptr<PointDriver>(new PointDriver(std::move(impl)));
@@ -227,19 +235,21 @@ PointRun PointDriver::run() const {
         }
         Eigen::FullPivLU<Eigen::MatrixXd> lu(J);
         if (!lu.isInvertible()) {
-          o = Outcome::failure(Status::singular, "the tangent of the stress-controlled components is singular "
-                                                 "(perfect plasticity under stress control?)");
+          o = Outcome::failure(Status::singular,
+                               "the tangent of the stress-controlled components is singular "
+                               "(perfect plasticity under stress control?)");
           break;
         }
         const Eigen::VectorXd d = lu.solve(r);
         for (std::size_t a = 0; a < S.size(); ++a) de[S[a]] -= d[static_cast<Eigen::Index>(a)];
       }
       if (o.ok() && !converged)
-        o = Outcome::failure(Status::not_converged, "mixed control did not converge in 50 iterations (|r| = " +
-                                                        std::to_string(rn) + " kPa)");
+        o = Outcome::failure(Status::not_converged,
+                             "mixed control did not converge in 50 iterations (|r| = " + std::to_string(rn) +
+                                 " kPa)");
       if (!o.ok()) {
-        out.outcome = Outcome::failure(o.status, "path " + std::to_string(seg + 1) + " (" + path.name + "), step " +
-                                                     std::to_string(j) + ": " + o.message);
+        out.outcome = Outcome::failure(o.status, "path " + std::to_string(seg + 1) + " (" + path.name +
+                                                     "), step " + std::to_string(j) + ": " + o.message);
         return out;
       }
       de_guess = de; // next step starts from this step's strain increment
@@ -259,7 +269,8 @@ void PointDriver::write_csv(const PointRun& run, const std::string& path) {
   {
     std::ofstream o(tmp);
     if (!o) throw Error("cannot write '" + path + "'");
-    o << "step,path,eps_xx,eps_yy,eps_zz,gamma_xy,gamma_yz,gamma_zx,sig_xx,sig_yy,sig_zz,sig_xy,sig_yz,sig_zx,"
+    o << "step,path,eps_xx,eps_yy,eps_zz,gamma_xy,gamma_yz,gamma_zx,sig_xx,sig_yy,sig_zz,sig_xy,sig_yz,sig_"
+         "zx,"
          "eps_axial,eps_vol,p_kPa,q_kPa\n";
     o.precision(12);
     for (const auto& r : run.rows) {
@@ -271,8 +282,8 @@ void PointDriver::write_csv(const PointRun& run, const std::string& path) {
       const double q = std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
                                         (s[2] - s[0]) * (s[2] - s[0])) +
                                  3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
-      o << ',' << -r.strain[axial] << ',' << -(r.strain[0] + r.strain[1] + r.strain[2]) << ',' << p << ',' << q
-        << '\n';
+      o << ',' << (0.0 - r.strain[axial]) << ',' << (0.0 - (r.strain[0] + r.strain[1] + r.strain[2])) << ','
+        << p + 0.0 << ',' << q << '\n';
     }
     if (!o) throw Error("cannot write '" + path + "'");
   }

@@ -4,21 +4,28 @@ namespace stratum {
 
 const char* to_string(PluginKind k) {
   switch (k) {
-  case PluginKind::material: return "material";
-  case PluginKind::element: return "element";
-  case PluginKind::contact_law: return "contact_law";
-  case PluginKind::solver: return "solver";
+  case PluginKind::material:
+    return "material";
+  case PluginKind::element:
+    return "element";
+  case PluginKind::contact_law:
+    return "contact_law";
+  case PluginKind::solver:
+    return "solver";
   }
   return "?";
 }
 
-template <class T> void Registry::add_to(std::map<std::string, Factory<T>>& m, PluginKind kind, Factory<T> f) {
-  if (f.name.empty()) throw Error(current_library_ + ": a " + std::string(to_string(kind)) + " factory has no name");
-  if (!f.create) throw Error(current_library_ + ": " + to_string(kind) + " '" + f.name + "' has no create function");
+template <class T>
+void Registry::add_to(std::map<std::string, Factory<T>>& m, PluginKind kind, Factory<T> f) {
+  if (f.name.empty())
+    throw Error(current_library_ + ": a " + std::string(to_string(kind)) + " factory has no name");
+  if (!f.create)
+    throw Error(current_library_ + ": " + to_string(kind) + " '" + f.name + "' has no create function");
   auto it = m.find(f.name);
   if (it != m.end())
-    throw Error(std::string("duplicate ") + to_string(kind) + " '" + f.name + "': registered by " + it->second.library +
-                " and again by " + current_library_);
+    throw Error(std::string("duplicate ") + to_string(kind) + " '" + f.name + "': registered by " +
+                it->second.library + " and again by " + current_library_);
   f.library = current_library_;
   std::string name = f.name;
   m.emplace(std::move(name), std::move(f));
@@ -31,8 +38,8 @@ const Factory<T>& Registry::find(const std::map<std::string, Factory<T>>& m, Plu
   if (it != m.end()) return it->second;
   std::string known;
   for (const auto& [n, f] : m) known += (known.empty() ? "" : ", ") + n;
-  throw Error(std::string("unknown ") + to_string(kind) + " '" + name + "'; known: " +
-              (known.empty() ? "(none)" : known) + unknown_hint);
+  throw Error(std::string("unknown ") + to_string(kind) + " '" + name +
+              "'; known: " + (known.empty() ? "(none)" : known) + unknown_hint);
 }
 
 template void Registry::add_to(std::map<std::string, Factory<Material>>&, PluginKind, Factory<Material>);
@@ -43,8 +50,8 @@ template const Factory<Material>& Registry::find(const std::map<std::string, Fac
                                                  const std::string&) const;
 template const Factory<Element>& Registry::find(const std::map<std::string, Factory<Element>>&, PluginKind,
                                                 const std::string&) const;
-template const Factory<ContactLaw>& Registry::find(const std::map<std::string, Factory<ContactLaw>>&, PluginKind,
-                                                   const std::string&) const;
+template const Factory<ContactLaw>& Registry::find(const std::map<std::string, Factory<ContactLaw>>&,
+                                                   PluginKind, const std::string&) const;
 template const Factory<Solver>& Registry::find(const std::map<std::string, Factory<Solver>>&, PluginKind,
                                                const std::string&) const;
 
@@ -58,20 +65,28 @@ template <class T> std::vector<std::string> keys(const std::map<std::string, Fac
 
 bool Registry::has(PluginKind kind, const std::string& name) const {
   switch (kind) {
-  case PluginKind::material: return materials_.count(name) != 0;
-  case PluginKind::element: return elements_.count(name) != 0;
-  case PluginKind::contact_law: return contact_laws_.count(name) != 0;
-  case PluginKind::solver: return solvers_.count(name) != 0;
+  case PluginKind::material:
+    return materials_.count(name) != 0;
+  case PluginKind::element:
+    return elements_.count(name) != 0;
+  case PluginKind::contact_law:
+    return contact_laws_.count(name) != 0;
+  case PluginKind::solver:
+    return solvers_.count(name) != 0;
   }
   return false;
 }
 
 std::vector<std::string> Registry::names(PluginKind kind) const {
   switch (kind) {
-  case PluginKind::material: return keys(materials_);
-  case PluginKind::element: return keys(elements_);
-  case PluginKind::contact_law: return keys(contact_laws_);
-  case PluginKind::solver: return keys(solvers_);
+  case PluginKind::material:
+    return keys(materials_);
+  case PluginKind::element:
+    return keys(elements_);
+  case PluginKind::contact_law:
+    return keys(contact_laws_);
+  case PluginKind::solver:
+    return keys(solvers_);
   }
   return {};
 }
@@ -84,10 +99,14 @@ const Schema& Registry::schema(PluginKind kind, const std::string& name, std::st
     return f.schema;
   };
   switch (kind) {
-  case PluginKind::material: return fill(material(name));
-  case PluginKind::element: return fill(element(name));
-  case PluginKind::contact_law: return fill(contact_law(name));
-  case PluginKind::solver: return fill(solver(name));
+  case PluginKind::material:
+    return fill(material(name));
+  case PluginKind::element:
+    return fill(element(name));
+  case PluginKind::contact_law:
+    return fill(contact_law(name));
+  case PluginKind::solver:
+    return fill(solver(name));
   }
   throw Error("unknown plugin kind");
 }

@@ -39,13 +39,20 @@ std::string show(const toml::node& n) {
 
 const char* type_name(const toml::node& n) {
   switch (n.type()) {
-  case toml::node_type::string: return "a string";
-  case toml::node_type::integer: return "an integer";
-  case toml::node_type::floating_point: return "a number";
-  case toml::node_type::boolean: return "a boolean";
-  case toml::node_type::array: return "an array";
-  case toml::node_type::table: return "a table";
-  default: return "a date or time";
+  case toml::node_type::string:
+    return "a string";
+  case toml::node_type::integer:
+    return "an integer";
+  case toml::node_type::floating_point:
+    return "a number";
+  case toml::node_type::boolean:
+    return "a boolean";
+  case toml::node_type::array:
+    return "an array";
+  case toml::node_type::table:
+    return "a table";
+  default:
+    return "a date or time";
   }
 }
 
@@ -53,18 +60,23 @@ namespace {
 
 std::string expected(const ParamSpec& s) {
   switch (s.type) {
-  case ParamType::real: return "a number";
-  case ParamType::integer: return "an integer";
-  case ParamType::boolean: return "true or false";
-  case ParamType::text: return "a string";
-  case ParamType::real_list: return "an array of numbers";
+  case ParamType::real:
+    return "a number";
+  case ParamType::integer:
+    return "an integer";
+  case ParamType::boolean:
+    return "true or false";
+  case ParamType::text:
+    return "a string";
+  case ParamType::real_list:
+    return "an array of numbers";
   }
   return "?";
 }
 
 [[noreturn]] void wrong_type(const toml::node& v, const std::string& ctx, const ParamSpec& s) {
-  throw Error(location(v), ctx + " " + s.name + " = " + show(v) + " has the wrong type: expected " + expected(s) +
-                               ", got " + type_name(v));
+  throw Error(location(v), ctx + " " + s.name + " = " + show(v) + " has the wrong type: expected " +
+                               expected(s) + ", got " + type_name(v));
 }
 
 } // namespace
@@ -79,8 +91,8 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
       std::string allowed;
       for (auto e : extra) allowed += (allowed.empty() ? "" : ", ") + std::string(e);
       for (const auto& s : schema.specs()) allowed += (allowed.empty() ? "" : ", ") + s.name;
-      throw Error(location(key.source()), context + " unknown key '" + k + "'; allowed: " +
-                                              (allowed.empty() ? "(none)" : allowed));
+      throw Error(location(key.source()),
+                  context + " unknown key '" + k + "'; allowed: " + (allowed.empty() ? "(none)" : allowed));
     }
   }
   Params p;
@@ -125,7 +137,8 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
         bool found = false;
         for (const auto& c : s.choices) found = found || c == x;
         if (!found)
-          throw Error(where, context + " " + s.name + " = " + show(*v) + " is not allowed; allowed: " + s.allowed());
+          throw Error(where,
+                      context + " " + s.name + " = " + show(*v) + " is not allowed; allowed: " + s.allowed());
       }
       p.set(s.name, std::move(x), where);
       break;
@@ -138,7 +151,8 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
         if (!e.is_number()) wrong_type(*v, context, s);
         const double x = e.value<double>().value();
         if (!std::isfinite(x) || !s.in_range(x))
-          throw Error(location(e), context + " " + s.name + " contains " + show(e) + ", outside " + s.allowed());
+          throw Error(location(e),
+                      context + " " + s.name + " contains " + show(e) + ", outside " + s.allowed());
         xs.push_back(x);
       }
       p.set(s.name, std::move(xs), where);

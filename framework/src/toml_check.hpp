@@ -25,6 +25,7 @@ namespace stratum::io {
                                  const std::vector<std::string_view>& extra = {});
 
 /// A required string key (for keys outside any schema, like `model = "..."`).
-[[nodiscard]] std::string require_string(const toml::table& table, std::string_view key, const std::string& context);
+[[nodiscard]] std::string require_string(const toml::table& table, std::string_view key,
+                                         const std::string& context);
 
 } // namespace stratum::io

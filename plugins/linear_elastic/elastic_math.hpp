@@ -79,13 +79,15 @@ struct Problem {
   if (!(c.Ev > 0.0)) return Problem{"Ev", "the vertical modulus Ev = " + num(c.Ev) + " must be positive"};
   if (!(c.Gvh > 0.0)) return Problem{"Gvh", "the shear modulus Gvh = " + num(c.Gvh) + " must be positive"};
   if (!(c.nu_hh > -1.0 && c.nu_hh < 1.0))
-    return Problem{"nu", "nu (nu_hh) = " + num(c.nu_hh) + " must lie in (-1, 1) for a cross-anisotropic solid"};
+    return Problem{"nu",
+                   "nu (nu_hh) = " + num(c.nu_hh) + " must lie in (-1, 1) for a cross-anisotropic solid"};
   const double m = 1.0 - c.nu_hh - 2.0 * c.nu_vh * c.nu_vh * c.Eh / c.Ev;
   if (!(m > 0.0)) {
     const double limit = std::sqrt(std::max(0.0, (1.0 - c.nu_hh) * c.Ev / (2.0 * c.Eh)));
-    return Problem{"nu_vh", "the cross-anisotropic stiffness is not positive definite: 1 - nu - 2 nu_vh^2 E/Ev = " +
-                                num(m) + " must be > 0, i.e. |nu_vh| < " + num(limit) + " (nu_vh = " +
-                                num(c.nu_vh) + ")"};
+    return Problem{
+        "nu_vh",
+        "the cross-anisotropic stiffness is not positive definite: 1 - nu - 2 nu_vh^2 E/Ev = " + num(m) +
+            " must be > 0, i.e. |nu_vh| < " + num(limit) + " (nu_vh = " + num(c.nu_vh) + ")"};
   }
   return std::nullopt;
 }
@@ -133,7 +135,8 @@ class LinearElastic final : public Material {
 public:
   /// Throws stratum::Error when D is not symmetric positive definite.
   explicit LinearElastic(const Mat6& D) : D_(D) {
-    if (!positive_definite(D_)) throw Error("linear_elastic: the elastic stiffness matrix is not positive definite");
+    if (!positive_definite(D_))
+      throw Error("linear_elastic: the elastic stiffness matrix is not positive definite");
   }
 
   [[nodiscard]] bool is_linear() const override { return true; }

@@ -49,7 +49,8 @@ STRATUM_PLUGIN(registry) {
       .text("anisotropy", {"isotropic", "cross_anisotropic"},
             "isotropic, or cross-anisotropic (transversely isotropic about the vertical y axis)")
       .defaults_to(std::string("isotropic"));
-  f.schema.real("E", "kPa", "Young's modulus; the horizontal modulus Eh when cross-anisotropic").greater_than(0.0);
+  f.schema.real("E", "kPa", "Young's modulus; the horizontal modulus Eh when cross-anisotropic")
+      .greater_than(0.0);
   f.schema.real("nu", "-", "Poisson's ratio; nu_hh (horizontal-horizontal) when cross-anisotropic")
       .greater_than(-1.0)
       .less_than(0.5)
@@ -64,7 +65,8 @@ STRATUM_PLUGIN(registry) {
       .at_least(-1.0)
       .defaults_to(-1.0);
   f.schema
-      .real("Gvh", "kPa", "cross-anisotropic only: shear modulus in vertical planes; 0 means Ev / (2 (1 + nu_vh))")
+      .real("Gvh", "kPa",
+            "cross-anisotropic only: shear modulus in vertical planes; 0 means Ev / (2 (1 + nu_vh))")
       .at_least(0.0)
       .defaults_to(0.0);
   f.create = create;

@@ -35,8 +35,9 @@ STRATUM_PLUGIN(registry) {
       .defaults_to(3LL);
   f.schema
       .text("volumetric", {"full", "bbar", "selective"},
-            "volumetric strain: full integration, bbar (mean dilatation over the element) or selective "
-            "(B-bar form of selective reduced integration with the (n-1)x(n-1) rule)")
+            "volumetric strain: full (standard displacement form), bbar (mean dilatation: averaged over the "
+            "cell) or selective (projected onto the polynomials through the (n-1)x(n-1) Gauss points, the "
+            "B-bar form of selective reduced integration)")
       .defaults_to(std::string("full"));
   f.create = [](const stratum::Params& p) -> std::unique_ptr<stratum::Element> {
     stratum::quad::Options o;

@@ -14,6 +14,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/LU>
 
 #include <array>
 #include <numbers>
@@ -46,11 +47,16 @@ namespace detail {
 /// Calls f(std::integral_constant<int, n>{}) for n = 4..8 (the node count of a valid mask).
 template <class F> decltype(auto) with_node_count(int n, F&& f) {
   switch (n) {
-  case 4: return f(std::integral_constant<int, 4>{});
-  case 5: return f(std::integral_constant<int, 5>{});
-  case 6: return f(std::integral_constant<int, 6>{});
-  case 7: return f(std::integral_constant<int, 7>{});
-  default: return f(std::integral_constant<int, 8>{});
+  case 4:
+    return f(std::integral_constant<int, 4>{});
+  case 5:
+    return f(std::integral_constant<int, 5>{});
+  case 6:
+    return f(std::integral_constant<int, 6>{});
+  case 7:
+    return f(std::integral_constant<int, 7>{});
+  default:
+    return f(std::integral_constant<int, 8>{});
   }
 }
 
@@ -66,11 +72,12 @@ template <int NN> struct PointGeometry {
 /// Evaluates the geometry of a table point. Returns false (leaving dNdx unset) when the
 /// Jacobian determinant or, in axisymmetry, the radius is not positive.
 template <int NN>
-bool evaluate(const TablePoint& p, const Eigen::Matrix<double, NN, 2>& X, bool axisymmetric, PointGeometry<NN>& g) {
+bool evaluate(const TablePoint& p, const Eigen::Matrix<double, NN, 2>& X, bool axisymmetric,
+              PointGeometry<NN>& g) {
   g.N = p.N.template head<NN>();
   const auto dN = p.dN.template topRows<NN>();
   const Mat2 J = dN.transpose() * X; // J(a, b) = d x_b / d xi_a
-  g.detJ = J.determinant();
+  g.detJ = J(0, 0) * J(1, 1) - J(0, 1) * J(1, 0);
   g.x = g.N.dot(X.col(0));
   g.dV = p.weight * g.detJ;
   if (axisymmetric) g.dV *= 2.0 * std::numbers::pi * g.x;
@@ -114,9 +121,9 @@ void strain_matrix(const PointGeometry<NN>& g, bool axisymmetric, Eigen::Matrix<
 /// 2k+1 is (0, dy, 0, dx) with h = N/r in axisymmetry and 0 in plane strain.
 template <int NN>
 void add_sparse_btdb(const PointGeometry<NN>& g, bool axisymmetric, const Eigen::Matrix4d& Dw,
-                     Eigen::Matrix<double, 2 * NN, 2 * NN>& K) {
+                     Eigen::Matrix<double, 2 * NN, 2 * NN, Eigen::RowMajor>& K) {
   const double inv_r = axisymmetric ? 1.0 / g.x : 0.0;
-  Eigen::Matrix<double, 4, 2 * NN> DB;
+  Eigen::Matrix<double, 4, 2 * NN, Eigen::RowMajor> DB;
   for (int k = 0; k < NN; ++k) {
     const double dx = g.dNdx(k, 0), dy = g.dNdx(k, 1), h = g.N(k) * inv_r;
     DB.col(2 * k) = Dw.col(0) * dx + Dw.col(2) * h + Dw.col(3) * dy;
@@ -131,7 +138,8 @@ void add_sparse_btdb(const PointGeometry<NN>& g, bool axisymmetric, const Eigen:
 
 /// B^T v for the standard (sparse) B and a 4-vector v.
 template <int NN>
-Eigen::Matrix<double, 2 * NN, 1> sparse_bt_times(const PointGeometry<NN>& g, bool axisymmetric, const Eigen::Vector4d& v) {
+Eigen::Matrix<double, 2 * NN, 1> sparse_bt_times(const PointGeometry<NN>& g, bool axisymmetric,
+                                                 const Eigen::Vector4d& v) {
   const double inv_r = axisymmetric ? 1.0 / g.x : 0.0;
   Eigen::Matrix<double, 2 * NN, 1> a;
   for (int k = 0; k < NN; ++k) {
@@ -143,7 +151,8 @@ Eigen::Matrix<double, 2 * NN, 1> sparse_bt_times(const PointGeometry<NN>& g, boo
 }
 
 inline std::string point_message(int element, const char* what, int point) {
-  return "element " + std::to_string(element) + ": " + what + " at integration point " + std::to_string(point);
+  return "element " + std::to_string(element) + ": " + what + " at integration point " +
+         std::to_string(point);
 }
 
 } // namespace detail
@@ -157,7 +166,8 @@ public:
   explicit QuadElement(Options options)
       : opt_(validated(options)), rule_(opt_.integration),
         interp_(lagrange_interpolation(opt_.integration,
-                                       opt_.volumetric == Volumetric::selective ? opt_.integration - 1 : 1)) {}
+                                       opt_.volumetric == Volumetric::selective ? opt_.integration - 1 : 1)) {
+  }
 
   [[nodiscard]] const Options& options() const { return opt_; }
   [[nodiscard]] bool axisymmetric() const { return opt_.formulation == Formulation::axisymmetric; }
@@ -174,10 +184,12 @@ public:
       throw Error("element " + std::to_string(cell.id) + ": displacement vector of size " +
                   std::to_string(u.size()) + " for a " + std::to_string(n) + "-node quadrilateral");
     if (law.material == nullptr)
-      return Outcome::failure(Status::material_failure, "element " + std::to_string(cell.id) +
-                                                            ": the quad element needs a Material (none was given)");
+      return Outcome::failure(Status::material_failure,
+                              "element " + std::to_string(cell.id) +
+                                  ": the quad element needs a Material (none was given)");
     return detail::with_node_count(n, [&](auto nn) {
-      return compute_fixed<decltype(nn)::value>(cell, u, u_n, *law.material, states, first_point, want_tangent, out);
+      return compute_fixed<decltype(nn)::value>(cell, u, u_n, *law.material, states, first_point,
+                                                want_tangent, out);
     });
   }
 
@@ -242,18 +254,20 @@ private:
     const int n = node_count(cell.shape);
     if (cell.x == nullptr || cell.x->rows() != n)
       throw Error("element " + std::to_string(cell.id) + ": node mask has " + std::to_string(n) +
-                  " nodes but the coordinate matrix has " + std::to_string(cell.x ? cell.x->rows() : 0) + " rows");
+                  " nodes but the coordinate matrix has " + std::to_string(cell.x ? cell.x->rows() : 0) +
+                  " rows");
     return n;
   }
 
   [[nodiscard]] const char* bad_geometry() const {
-    return axisymmetric() ? "non-positive Jacobian determinant or radius" : "non-positive Jacobian determinant";
+    return axisymmetric() ? "non-positive Jacobian determinant or radius"
+                          : "non-positive Jacobian determinant";
   }
 
   template <int NN>
   Outcome compute_fixed(const ElementData& cell, const Eigen::VectorXd& u, const Eigen::VectorXd& u_n,
-                        const Material& material, StateStore& states, std::size_t first_point, bool want_tangent,
-                        ElementResult& out) const {
+                        const Material& material, StateStore& states, std::size_t first_point,
+                        bool want_tangent, ElementResult& out) const {
     constexpr int ND = 2 * NN;
     using RowD = Eigen::Matrix<double, 1, ND>;
     using BMat = Eigen::Matrix<double, 4, ND>;
@@ -301,7 +315,7 @@ private:
     }
 
     Eigen::Matrix<double, ND, 1> f = Eigen::Matrix<double, ND, 1>::Zero();
-    Eigen::Matrix<double, ND, ND> K;
+    Eigen::Matrix<double, ND, ND, Eigen::RowMajor> K; // row-major: add_sparse_btdb adds rows
     if (want_tangent) K.setZero();
     BMat B;
     Vec6 strain = Vec6::Zero(), strain_n = Vec6::Zero(), dstrain, stress_n, stress;
@@ -332,8 +346,9 @@ private:
       Outcome r = material.update(in, mo);
       if (!r.ok()) return r;
       if (!stress.allFinite() || (want_tangent && !tangent.allFinite()))
-        return Outcome::failure(Status::non_finite,
-                                detail::point_message(cell.id, "the material returned a non-finite stress or tangent", i));
+        return Outcome::failure(
+            Status::non_finite,
+            detail::point_message(cell.id, "the material returned a non-finite stress or tangent", i));
       trial.strain() = strain;
       trial.stress() = stress;
 
@@ -363,7 +378,7 @@ private:
   using Gram = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, max_reduced, max_reduced>;
 
   Options opt_;
-  RuleTable rule_;         ///< the n x n rule of all points
+  RuleTable rule_; ///< the n x n rule of all points
   /// Values at the rule's points of the Lagrange basis through the (n-1) x (n-1) Gauss
   /// points (selective variant; a single column of ones otherwise).
   Phi interp_;

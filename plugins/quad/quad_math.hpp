@@ -22,13 +22,13 @@
 namespace stratum::quad {
 
 inline constexpr int max_nodes = 8;
-inline constexpr int max_rule = 4;                   ///< largest n of an n x n Gauss rule
+inline constexpr int max_rule = 4;                     ///< largest n of an n x n Gauss rule
 inline constexpr int max_points = max_rule * max_rule; ///< largest number of integration points
 inline constexpr unsigned corner_bits = 0x0Fu;
 inline constexpr unsigned all_bits = 0xFFu;
 
-using NodeVec = Eigen::Matrix<double, max_nodes, 1>;   ///< one value per present node (rest unused)
-using NodeGrad = Eigen::Matrix<double, max_nodes, 2>;  ///< d/dxi, d/deta per present node
+using NodeVec = Eigen::Matrix<double, max_nodes, 1>;  ///< one value per present node (rest unused)
+using NodeGrad = Eigen::Matrix<double, max_nodes, 2>; ///< d/dxi, d/deta per present node
 
 /// Natural coordinates of the eight slots.
 inline constexpr std::array<std::array<double, 2>, 8> slot_xi{
@@ -144,7 +144,8 @@ struct GaussRule1D {
     break;
   }
   default:
-    throw Error("quad element: Gauss rule with " + std::to_string(n) + " points per direction is not available (1-4)");
+    throw Error("quad element: Gauss rule with " + std::to_string(n) +
+                " points per direction is not available (1-4)");
   }
   return r;
 }
@@ -184,7 +185,9 @@ public:
   [[nodiscard]] int order() const { return n_; }
   [[nodiscard]] int size() const { return n_ * n_; }
   /// The points of a valid shape mask.
-  [[nodiscard]] const std::vector<TablePoint>& points(unsigned shape) const { return points_[midside_bits(shape)]; }
+  [[nodiscard]] const std::vector<TablePoint>& points(unsigned shape) const {
+    return points_[midside_bits(shape)];
+  }
 
 private:
   int n_ = 0;
@@ -201,7 +204,8 @@ private:
     double v = 1.0;
     for (int q = 0; q < reduced; ++q) {
       if (q == l) continue;
-      v *= (t - gr.x[static_cast<std::size_t>(q)]) / (gr.x[static_cast<std::size_t>(l)] - gr.x[static_cast<std::size_t>(q)]);
+      v *= (t - gr.x[static_cast<std::size_t>(q)]) /
+           (gr.x[static_cast<std::size_t>(l)] - gr.x[static_cast<std::size_t>(q)]);
     }
     return v;
   };

@@ -22,9 +22,10 @@ public:
 extern "C" __attribute__((visibility("default"))) int stratum_plugin_abi_version() { return TOY_ABI; }
 
 extern "C" __attribute__((visibility("default"))) void stratum_register(stratum::Registry& r) {
-  r.add(stratum::Factory<stratum::Material>{.name = TOY_NAME,
-                                            .summary = "test-only material",
-                                            .schema = {},
-                                            .create = [](const stratum::Params&) { return std::make_unique<Toy>(); },
-                                            .library = {}});
+  r.add(stratum::Factory<stratum::Material>{
+      .name = TOY_NAME,
+      .summary = "test-only material",
+      .schema = {},
+      .create = [](const stratum::Params&) { return std::make_unique<Toy>(); },
+      .library = {}});
 }

@@ -97,7 +97,11 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-/// Largest relative error of u_r over the nodes of the inner face r = a. `u_free` holds
+/// CPU time of the whole process (all threads, user + system): unlike wall time it hardly
+/// grows when other processes compete for the cores.
+double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+/// Largest relative error of u_r over the nodes of the inner face r = a. `u` holds the
 /// free unknowns when `free` is true, else it is the full-size displacement.
 double u_a_error(const stratum::Model& m, const Eigen::VectorXd& u, bool free) {
   const auto it = m.mesh.node_sets.find("ring.left");
@@ -121,13 +125,14 @@ double u_a_error(const stratum::Model& m, const Eigen::VectorXd& u, bool free) {
 
 /// The measurements of one repetition of one size.
 struct Sample {
-  double build = 0;     ///< Analysis::from_string: parse, plugins, mesh, model
-  double assembler = 0; ///< Assembler(model) (pattern + scatter maps) + make_matrix()
-  double assembly = 0;  ///< one assemble(): internal force + tangent
-  double analyze = 0;   ///< CHOLMOD symbolic analysis
-  double factorize = 0; ///< CHOLMOD numeric factorization
-  double solve = 0;     ///< forward/back substitution
-  double run = 0;       ///< the whole Analysis::run() (its own Assembler, 2 assemblies, auto solver)
+  double build = 0;        ///< Analysis::from_string: parse, plugins, mesh, model
+  double assembler = 0;    ///< Assembler(model) (pattern + scatter maps) + make_matrix()
+  double assembly = 0;     ///< one assemble(): internal force + tangent
+  double analyze = 0;      ///< CHOLMOD symbolic analysis
+  double factorize = 0;    ///< CHOLMOD numeric factorization
+  double solve = 0;        ///< forward/back substitution
+  double run = 0;          ///< the whole Analysis::run() (its own Assembler, 2 assemblies, auto solver)
+  double solution_cpu = 0; ///< process CPU time of assembler + assembly + analyze + factorize + solve
   double err_direct = 0, err_run = 0;
   int free = 0;
   long long nnz = 0;
@@ -150,6 +155,7 @@ Sample measure(const Size& s, const std::string& plugin_dir) {
   stratum::Model& m = analysis->model();
   r.free = m.dofs.free_count;
   {
+    const double cpu0 = cpu_seconds();
     t = Clock::now();
     const stratum::Assembler assembler(m);
     stratum::SparseMatrix k = assembler.make_matrix();
@@ -175,6 +181,7 @@ Sample measure(const Size& s, const std::string& plugin_dir) {
     t = Clock::now();
     if (auto o = ls->solve(rhs, x); !o.ok()) throw stratum::Error(o.message);
     r.solve = seconds_since(t);
+    r.solution_cpu = cpu_seconds() - cpu0;
     r.err_direct = u_a_error(m, x, true);
     r.auto_name = stratum::make_linear_solver("auto", m.symmetric(), r.free)->name();
   } // frees the benchmark's own matrix, factor and maps before run() builds its own
@@ -249,6 +256,14 @@ std::string cpu_model() {
   return "unknown CPU";
 }
 
+/// The 1-minute load average: other processes on a shared machine inflate wall times.
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one;
+  in >> one;
+  return one.empty() ? "unknown" : one;
+}
+
 std::string env_or(const char* name, const char* fallback) {
   const char* v = std::getenv(name);
   return v && *v ? v : fallback;
@@ -257,6 +272,13 @@ std::string env_or(const char* name, const char* fallback) {
 std::string fixed(double v, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+/// The closed-form u(a) with 7 significant digits.
+std::string exact_text() {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6e", exact_u_a());
   return buf;
 }
 
@@ -285,31 +307,34 @@ std::string today_utc() {
   return buf;
 }
 
+/// A row of the table: the medians plus the medians of the compound figures.
+struct Measured {
+  Row row;
+  double solution = 0, to_solution = 0, solution_cpu = 0;
+};
+
 // ---- console
 
 void print_header() {
-  std::printf("%9s %9s %10s | %7s %7s %7s %7s %7s %7s | %7s | %7s %7s | %8s %8s | %6s %7s\n", "free DOF",
-              "mesh", "nnz(K)", "build", "pattern", "assem", "analyze", "factor", "solve", "asm+sol", "run()",
-              "total", "err u(a)", "err run", "wall", "peakMiB");
+  std::printf("%9s %9s %10s | %7s %7s %7s %7s %7s %7s | %7s %7s | %7s %7s | %8s %8s | %6s %7s\n", "free DOF",
+              "mesh", "nnz(K)", "build", "pattern", "assem", "analyze", "factor", "solve", "asm+sol", "cpu",
+              "run()", "total", "err u(a)", "err run", "wall", "peakMiB");
   std::fflush(stdout);
 }
 
-void print_row(const Row& r, double solution, double to_solution) {
+void print_row(const Measured& e) {
+  const auto& r = e.row;
   const auto& m = r.med;
   const std::string mesh = std::to_string(r.size.nx) + "x" + std::to_string(r.size.ny);
-  std::printf("%9d %9s %10lld | %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f | %7.3f | %7.3f %7.3f | %8.1e %8.1e | "
-              "%6.1f %7.0f\n",
-              m.free, mesh.c_str(), m.nnz, m.build, m.assembler, m.assembly, m.analyze, m.factorize, m.solve,
-              solution, m.run, to_solution, m.err_direct, m.err_run, r.wall, r.peak_mib);
+  std::printf(
+      "%9d %9s %10lld | %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f | %7.3f %7.3f | %7.3f %7.3f | %8.1e %8.1e | "
+      "%6.1f %7.0f\n",
+      m.free, mesh.c_str(), m.nnz, m.build, m.assembler, m.assembly, m.analyze, m.factorize, m.solve,
+      e.solution, e.solution_cpu, m.run, e.to_solution, m.err_direct, m.err_run, r.wall, r.peak_mib);
   std::fflush(stdout);
 }
 
 // ---- docs/benchmarks.md
-
-struct Measured {
-  Row row;
-  double solution = 0, to_solution = 0;
-};
 
 std::string target_sentence(const std::vector<Measured>& rows) {
   const auto it = std::find_if(rows.begin(), rows.end(),
@@ -320,43 +345,51 @@ std::string target_sentence(const std::vector<Measured>& rows) {
   std::ostringstream s;
   s << "Target (1e5 DOF assembled and solved in under 2 s): **" << (met ? "met" : "NOT met")
     << "**: " << fixed(it->solution, 2) << " s for pattern + assembly + analyze + factorize + solve at "
-    << grouped(it->row.med.free) << " free DOF; the whole time to solution (scene build + `run()`) is "
-    << fixed(it->to_solution, 2) << " s" << (it->to_solution < target_seconds ? " (also under 2 s)." : ".");
+    << grouped(it->row.med.free) << " free DOF (process CPU time " << fixed(it->solution_cpu, 2)
+    << " s); the whole time to solution (scene build + `run()`) is " << fixed(it->to_solution, 2) << " s"
+    << (it->to_solution < target_seconds ? " (also under 2 s)." : ".");
   return s.str();
 }
 
-std::string section(const std::vector<Measured>& rows, const Options& o) {
+/// `load` is the 1-minute load average when the program started.
+std::string section(const std::vector<Measured>& rows, const Options& o, const std::string& load) {
+  const bool own_plugins = o.plugin_dir == STRATUM_PLUGIN_DIR;
   std::ostringstream s;
   s << begin_marker << "\n"
     << "## Linear axisymmetric quad8: assembly and solution\n\n"
-    << "Generated by `build/release/bin/bench_linear` (source `tools/bench/bench_linear.cpp`; columns in "
-       "`tools/bench/README.md`) on "
-    << today_utc() << ", " << std::thread::hardware_concurrency() << " cores (" << cpu_model()
+    << "Generated by `build/release/bin/bench_linear` (source `tools/bench/bench_linear.cpp`, columns "
+       "explained in `tools/bench/README.md`) on "
+    << today_utc() << ": " << std::thread::hardware_concurrency() << " cores (" << cpu_model()
     << "), OPENBLAS_NUM_THREADS=" << env_or("OPENBLAS_NUM_THREADS", "unset")
-    << ", OMP_NUM_THREADS=" << env_or("OMP_NUM_THREADS", "unset") << "; median of " << o.repeat
-    << " repetitions. Regenerate with `build/release/bin/bench_linear` (`--max-dof N` to stop early, "
-       "`--no-write` to leave this file alone). Absolute times on shared machines vary from run to run.\n\n"
+    << ", OMP_NUM_THREADS=" << env_or("OMP_NUM_THREADS", "unset") << ", load average " << load
+    << " at the start; median of " << o.repeat
+    << " repetitions. Regenerate with `build/release/bin/bench_linear` (`--max-dof N` stops early, "
+       "`--no-write` leaves this file alone). Wall times on these shared machines vary from run to run "
+       "and grow with the load of other processes: compare ratios within one table.\n\n"
     << "Lamé cylinder a = 1, b = 2, height 0.5, E = 1000, nu = 0.3, p = 1, u_z = 0 on top and bottom; "
-       "nx x nx/2 square quad8 cells, 3x3 Gauss, built with `Analysis::from_string` and the build tree's "
-       "plugins. Times in seconds. *asm+solve* = pattern + assembly + analyze + factorize + solve with "
-       "`make_linear_solver(\"cholmod\")`; *run()* = `Analysis::run()` with `linear_solver = \"auto\"` "
-       "(its own pattern, "
+       "nx x nx/2 square quad8 cells, 3x3 Gauss; built with `Analysis::from_string` and "
+    << (own_plugins ? std::string("the build tree's plugins") : "the plugins of `" + o.plugin_dir + "`")
+    << ". Times in seconds. *pattern* = `Assembler(model)` + `make_matrix()`; *asm+solve* = pattern + "
+       "assembly + analyze + factorize + solve with `make_linear_solver(\"cholmod\")`, and *(CPU)* the "
+       "process CPU time (all threads) of that span, which competing processes hardly inflate; *run()* = "
+       "`Analysis::run()` with `linear_solver = \"auto\"` (its own pattern, "
     << (rows.empty() ? 2 : rows.front().row.med.run_assemblies)
-    << " assemblies of Newton's one iteration, analyze, factorize, solve); *total* = build + run(). "
-       "*err u(a)* = largest relative error of u_r on r = a against the closed form "
-    << sci(exact_u_a()) << " m (direct solve / run()).\n\n"
-    << "| free DOF | mesh | nnz(K) | build | pattern | assembly | analyze | factorize | solve | asm+solve | "
-       "run() "
-       "| total | auto | err u(a) | peak RSS |\n"
-    << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|\n";
+    << " assemblies with tangent since Newton assembles again to see convergence, analyze, factorize, "
+       "solve); *total* = build + run(), the time to solution from TOML text; *err u(a)* = largest relative "
+       "error of u_r on r = a against the closed form "
+    << exact_text() << " m (direct solve / run()); *wall* = all repetitions of the size.\n\n"
+    << "| free DOF | mesh | nnz(K) | build | pattern | assembly | analyze | factorize | solve | asm+solve "
+       "| (CPU) | run() | total | auto | err u(a) | peak RSS | wall |\n"
+    << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n";
   for (const auto& e : rows) {
     const auto& m = e.row.med;
     s << "| " << grouped(m.free) << " | " << e.row.size.nx << " x " << e.row.size.ny << " | "
       << grouped(m.nnz) << " | " << fixed(m.build, 3) << " | " << fixed(m.assembler, 3) << " | "
       << fixed(m.assembly, 3) << " | " << fixed(m.analyze, 3) << " | " << fixed(m.factorize, 3) << " | "
-      << fixed(m.solve, 3) << " | **" << fixed(e.solution, 3) << "** | " << fixed(m.run, 3) << " | "
-      << fixed(e.to_solution, 3) << " | " << m.auto_name << " | " << sci(m.err_direct) << " / "
-      << sci(m.err_run) << " | " << fixed(e.row.peak_mib, 0) << " MiB |\n";
+      << fixed(m.solve, 3) << " | **" << fixed(e.solution, 3) << "** | " << fixed(e.solution_cpu, 3) << " | "
+      << fixed(m.run, 3) << " | " << fixed(e.to_solution, 3) << " | " << m.auto_name << " | "
+      << sci(m.err_direct) << " / " << sci(m.err_run) << " | " << fixed(e.row.peak_mib, 0) << " MiB | "
+      << fixed(e.row.wall, 1) << " |\n";
   }
   s << "\n" << target_sentence(rows) << "\n" << end_marker << "\n";
   return s.str();
@@ -432,6 +465,7 @@ bool parse(int argc, char** argv, Options& o) {
 } // namespace
 
 int main(int argc, char** argv) {
+  const std::string load = load_average();
   Options opt;
   if (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
     usage(std::cout);
@@ -442,9 +476,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("bench_linear: Lame cylinder, axisymmetric quad8, 3x3 Gauss; %u cores (%s), "
-              "OPENBLAS_NUM_THREADS=%s; median of %d; times in s\n",
+              "OPENBLAS_NUM_THREADS=%s, load %s; median of %d; times in s\n",
               std::thread::hardware_concurrency(), cpu_model().c_str(),
-              env_or("OPENBLAS_NUM_THREADS", "unset").c_str(), opt.repeat);
+              env_or("OPENBLAS_NUM_THREADS", "unset").c_str(), load.c_str(), opt.repeat);
   print_header();
   std::vector<Measured> rows;
   bool accurate = true;
@@ -456,8 +490,11 @@ int main(int argc, char** argv) {
       std::vector<Sample> samples;
       for (int k = 0; k < opt.repeat; ++k) samples.push_back(measure(s, opt.plugin_dir));
       const Row row = summarize(s, samples, seconds_since(t0), peak_rss_mib());
-      const Measured m{row, median_of(samples, &Sample::solution), median_of(samples, &Sample::to_solution)};
-      print_row(row, m.solution, m.to_solution);
+      std::vector<double> cpu;
+      for (const auto& e : samples) cpu.push_back(e.solution_cpu);
+      const Measured m{row, median_of(samples, &Sample::solution), median_of(samples, &Sample::to_solution),
+                       median(std::move(cpu))};
+      print_row(m);
       rows.push_back(m);
       if (!(row.med.err_direct < tolerance) || !(row.med.err_run < tolerance)) {
         std::printf("WARNING: u(a) relative error %.3e (direct) / %.3e (run) at %d DOF exceeds %.0e\n",
@@ -475,7 +512,7 @@ int main(int argc, char** argv) {
   if (!accurate) return 1;
   if (opt.write) {
     try {
-      write_docs(opt.docs, section(rows, opt));
+      write_docs(opt.docs, section(rows, opt, load));
       std::printf("wrote %s\n", opt.docs.c_str());
     } catch (const std::exception& e) {
       std::fprintf(stderr, "bench_linear: %s\n", e.what());

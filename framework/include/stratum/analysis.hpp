@@ -18,9 +18,9 @@
 namespace stratum {
 
 struct RunOptions {
-  std::string out_dir;                   ///< empty: results/<scene stem> under the working directory
-  std::vector<std::string> plugin_dirs;  ///< empty: PluginCatalog::default_directories()
-  bool write_output = true;              ///< false: solve only (tests, benchmarks)
+  std::string out_dir;                  ///< empty: results/<scene stem> under the working directory
+  std::vector<std::string> plugin_dirs; ///< empty: PluginCatalog::default_directories()
+  bool write_output = true;             ///< false: solve only (tests, benchmarks)
   /// Called after every accepted step (progress line, verbose diagnostics); may be empty.
   std::function<void(int step, int steps, double lambda, const StepReport&)> on_step;
 };
@@ -30,7 +30,7 @@ struct RunSummary {
   int steps_done = 0;
   int cutbacks = 0;
   std::vector<StepReport> reports;
-  std::string pvd;         ///< the .pvd collection written ("" when no output)
+  std::string pvd; ///< the .pvd collection written ("" when no output)
   std::string out_dir;
 };
 

@@ -18,7 +18,7 @@ struct ContactInput {
   const Vec2& traction_n;
   const Vec2& jump_n; ///< relative displacement at t_n
   std::span<const double> history_n;
-  const Vec2& djump;  ///< relative displacement increment
+  const Vec2& djump; ///< relative displacement increment
   PointContext where;
 };
 
@@ -41,7 +41,8 @@ public:
   [[nodiscard]] virtual bool symmetric_tangent() const { return true; }
   [[nodiscard]] virtual Outcome update(const ContactInput& in, ContactOutput& out) const = 0;
   /// The state of a point from its (trial or committed) history and traction.
-  [[nodiscard]] virtual ContactState state(const Vec2& /*traction*/, std::span<const double> /*history*/) const {
+  [[nodiscard]] virtual ContactState state(const Vec2& /*traction*/,
+                                           std::span<const double> /*history*/) const {
     return ContactState::stick;
   }
 };

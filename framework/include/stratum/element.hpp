@@ -30,9 +30,9 @@ enum class Formulation { plane_strain, axisymmetric };
 /// Rows of `x` are the present nodes in slot order (corners first), so a
 /// 4-node quad has shape 0x0F and 4 rows, an 8-node quad 0xFF and 8 rows.
 struct ElementData {
-  int id = -1;                ///< global cell index (for messages)
-  unsigned shape = 0;         ///< present node slots
-  const Eigen::MatrixX2d* x;  ///< coordinates of the present nodes, n x 2
+  int id = -1;               ///< global cell index (for messages)
+  unsigned shape = 0;        ///< present node slots
+  const Eigen::MatrixX2d* x; ///< coordinates of the present nodes, n x 2
 };
 
 /// The constitutive law of the element's domain: exactly one is set.
@@ -61,8 +61,8 @@ public:
   /// Reads states.committed(first_point + i), writes states.trial(first_point + i).
   [[nodiscard]] virtual Outcome compute(const ElementData& cell, const Eigen::VectorXd& u,
                                         const Eigen::VectorXd& u_n, const Constitutive& law,
-                                        StateStore& states, std::size_t first_point,
-                                        bool want_tangent, ElementResult& out) const = 0;
+                                        StateStore& states, std::size_t first_point, bool want_tangent,
+                                        ElementResult& out) const = 0;
 
   /// Consistent nodal forces of a body force b (kN/m3, e.g. (0, -gamma)).
   virtual void body_force(const ElementData& cell, const Vec2& b, Eigen::VectorXd& f) const = 0;

@@ -34,9 +34,9 @@ struct MaterialInput {
 
 /// Output of one update; the caller provides the storage.
 struct MaterialOutput {
-  Vec6& stress;                 ///< trial stress at t_{n+1}
-  std::span<double> history;    ///< trial history at t_{n+1} (write all of it)
-  Mat6& tangent;                ///< d stress / d strain (consistent where the model has one)
+  Vec6& stress;              ///< trial stress at t_{n+1}
+  std::span<double> history; ///< trial history at t_{n+1} (write all of it)
+  Mat6& tangent;             ///< d stress / d strain (consistent where the model has one)
 };
 
 class Material {

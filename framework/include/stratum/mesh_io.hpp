@@ -13,7 +13,7 @@ namespace stratum {
 /// (1 = uniform, > 1 grows towards x1 / y1). The cells are quads of `nodes_per_cell`
 /// nodes (4 or 8; 8 = serendipity with midside nodes).
 struct Block {
-  std::string name;  ///< cell set name; its edges make sets "<name>.left|right|bottom|top"
+  std::string name; ///< cell set name; its edges make sets "<name>.left|right|bottom|top"
   double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
   int nx = 1, ny = 1;
   double grade_x = 1.0, grade_y = 1.0;

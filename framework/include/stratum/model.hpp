@@ -29,12 +29,12 @@ struct DofMap {
 
 /// Cells of one element kind and one constitutive law, with the states of their points.
 struct Domain {
-  std::string name;                      ///< for messages and output
-  int set_id = 0;                        ///< written as cell data "set_id"
+  std::string name; ///< for messages and output
+  int set_id = 0;   ///< written as cell data "set_id"
   const Element* element = nullptr;
   Constitutive law;
-  std::vector<int> cells;                ///< global cell indices
-  std::vector<std::size_t> first_point;  ///< per cell, index of its first point in `states`; size cells + 1
+  std::vector<int> cells;               ///< global cell indices
+  std::vector<std::size_t> first_point; ///< per cell, index of its first point in `states`; size cells + 1
   StateStore states;
 };
 
@@ -43,11 +43,11 @@ struct Model {
   Mesh mesh;
   std::vector<Domain> domains;
   DofMap dofs;
-  Eigen::VectorXd load_ref;     ///< full-size external load at load factor 1 (kN)
-  Eigen::VectorXd prescribed;   ///< full-size prescribed displacement at load factor 1 (m)
-  Eigen::VectorXd u;            ///< full-size committed displacement (m)
-  Eigen::VectorXd reactions;    ///< full-size internal force at the last converged state (kN)
-  double lambda = 0.0;          ///< committed load factor
+  Eigen::VectorXd load_ref;   ///< full-size external load at load factor 1 (kN)
+  Eigen::VectorXd prescribed; ///< full-size prescribed displacement at load factor 1 (m)
+  Eigen::VectorXd u;          ///< full-size committed displacement (m)
+  Eigen::VectorXd reactions;  ///< full-size internal force at the last converged state (kN)
+  double lambda = 0.0;        ///< committed load factor
 
   /// Present nodes of a cell in slot order, and their coordinates.
   void cell_nodes(int cell, std::vector<int>& nodes, Eigen::MatrixX2d& x) const;
@@ -70,16 +70,19 @@ public:
   /// Evaluates every domain at the full-size trial displacement u (the committed one is
   /// model.u): internal force (full size) and, when k != nullptr, the free-free tangent
   /// (k must come from make_matrix()). Trial states are written.
-  [[nodiscard]] Outcome assemble(Model& model, const Eigen::VectorXd& u, Eigen::VectorXd& f_int, SparseMatrix* k) const;
+  [[nodiscard]] Outcome assemble(Model& model, const Eigen::VectorXd& u, Eigen::VectorXd& f_int,
+                                 SparseMatrix* k) const;
 
 private:
   SparseMatrix pattern_;
-  std::vector<std::vector<int>> scatter_; ///< per domain: concatenated per-cell (2n)^2 value indices, -1 = skip
+  std::vector<std::vector<int>>
+      scatter_; ///< per domain: concatenated per-cell (2n)^2 value indices, -1 = skip
   std::vector<std::vector<std::size_t>> scatter_start_;
 };
 
 /// Adds consistent nodal forces of a normal pressure p (kPa, positive = pushing into the
 /// body) on the edges to f (full size). Axisymmetric: weighted with 2 pi r.
-void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f, Eigen::VectorXd& out);
+void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f,
+                       Eigen::VectorXd& out);
 
 } // namespace stratum

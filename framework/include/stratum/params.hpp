@@ -30,14 +30,33 @@ struct ParamSpec {
   std::string meaning; ///< one sentence
   std::optional<double> lower, upper;
   bool lower_open = false, upper_open = false;
-  std::optional<ParamValue> fallback;  ///< the default; none means required
-  std::vector<std::string> choices;    ///< for text parameters: the allowed values
+  std::optional<ParamValue> fallback; ///< the default; none means required
+  std::vector<std::string> choices;   ///< for text parameters: the allowed values
 
-  ParamSpec& at_least(double v) { lower = v; lower_open = false; return *this; }
-  ParamSpec& greater_than(double v) { lower = v; lower_open = true; return *this; }
-  ParamSpec& at_most(double v) { upper = v; upper_open = false; return *this; }
-  ParamSpec& less_than(double v) { upper = v; upper_open = true; return *this; }
-  ParamSpec& defaults_to(ParamValue v) { fallback = std::move(v); return *this; }
+  ParamSpec& at_least(double v) {
+    lower = v;
+    lower_open = false;
+    return *this;
+  }
+  ParamSpec& greater_than(double v) {
+    lower = v;
+    lower_open = true;
+    return *this;
+  }
+  ParamSpec& at_most(double v) {
+    upper = v;
+    upper_open = false;
+    return *this;
+  }
+  ParamSpec& less_than(double v) {
+    upper = v;
+    upper_open = true;
+    return *this;
+  }
+  ParamSpec& defaults_to(ParamValue v) {
+    fallback = std::move(v);
+    return *this;
+  }
 
   [[nodiscard]] bool required() const { return !fallback.has_value(); }
   /// "[0, 0.5)", "(0, inf)", "one of: a, b" or "any".

@@ -16,7 +16,7 @@
 #define STRATUM_PLUGIN_ABI_VERSION 1
 
 #define STRATUM_PLUGIN(registry_name)                                                                        \
-  extern "C" __attribute__((visibility("default"))) int stratum_plugin_abi_version() {                     \
-    return STRATUM_PLUGIN_ABI_VERSION;                                                                      \
-  }                                                                                                         \
+  extern "C" __attribute__((visibility("default"))) int stratum_plugin_abi_version() {                       \
+    return STRATUM_PLUGIN_ABI_VERSION;                                                                       \
+  }                                                                                                          \
   extern "C" __attribute__((visibility("default"))) void stratum_register(stratum::Registry& registry_name)

@@ -21,9 +21,10 @@ namespace stratum {
 
 /// One path segment as the driver runs it.
 struct PointPath {
-  std::string name;                 ///< e.g. "triaxial_drained", for messages and the CSV
+  std::string name; ///< e.g. "triaxial_drained", for messages and the CSV
   std::array<bool, 6> stress_controlled{};
-  Vec6 increment = Vec6::Zero();    ///< over the whole segment: strain (controlled) or stress change (controlled)
+  Vec6 increment =
+      Vec6::Zero(); ///< over the whole segment: strain (controlled) or stress change (controlled)
   int steps = 1;
 };
 

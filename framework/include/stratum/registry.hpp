@@ -24,10 +24,10 @@ enum class PluginKind { material, element, contact_law, solver };
 
 template <class T> struct Factory {
   std::string name;
-  std::string summary;  ///< one line: what it is
+  std::string summary; ///< one line: what it is
   Schema schema;
   std::function<std::unique_ptr<T>(const Params&)> create;
-  std::string library;  ///< filled in by the registry
+  std::string library; ///< filled in by the registry
 };
 
 class Registry {
@@ -38,10 +38,18 @@ public:
   void add(Factory<Solver> f) { add_to(solvers_, PluginKind::solver, std::move(f)); }
 
   /// Lookups throw Error listing the known names of that kind.
-  [[nodiscard]] const Factory<Material>& material(const std::string& name) const { return find(materials_, PluginKind::material, name); }
-  [[nodiscard]] const Factory<Element>& element(const std::string& name) const { return find(elements_, PluginKind::element, name); }
-  [[nodiscard]] const Factory<ContactLaw>& contact_law(const std::string& name) const { return find(contact_laws_, PluginKind::contact_law, name); }
-  [[nodiscard]] const Factory<Solver>& solver(const std::string& name) const { return find(solvers_, PluginKind::solver, name); }
+  [[nodiscard]] const Factory<Material>& material(const std::string& name) const {
+    return find(materials_, PluginKind::material, name);
+  }
+  [[nodiscard]] const Factory<Element>& element(const std::string& name) const {
+    return find(elements_, PluginKind::element, name);
+  }
+  [[nodiscard]] const Factory<ContactLaw>& contact_law(const std::string& name) const {
+    return find(contact_laws_, PluginKind::contact_law, name);
+  }
+  [[nodiscard]] const Factory<Solver>& solver(const std::string& name) const {
+    return find(solvers_, PluginKind::solver, name);
+  }
 
   [[nodiscard]] bool has(PluginKind kind, const std::string& name) const;
   [[nodiscard]] std::vector<std::string> names(PluginKind kind) const;
@@ -58,7 +66,8 @@ public:
 private:
   template <class T> void add_to(std::map<std::string, Factory<T>>& m, PluginKind kind, Factory<T> f);
   template <class T>
-  const Factory<T>& find(const std::map<std::string, Factory<T>>& m, PluginKind kind, const std::string& name) const;
+  const Factory<T>& find(const std::map<std::string, Factory<T>>& m, PluginKind kind,
+                         const std::string& name) const;
 
   std::map<std::string, Factory<Material>> materials_;
   std::map<std::string, Factory<Element>> elements_;

@@ -43,11 +43,11 @@ public:
 
 /// Convergence criteria; a test is passed when either its relative or absolute bound holds.
 struct Convergence {
-  double force_rtol = 1e-8;    ///< |R| <= force_rtol * force scale
-  double force_atol = 1e-10;   ///< kN
-  double disp_rtol = 1e-8;     ///< |du| <= disp_rtol * |u - u_n|
-  double disp_atol = 1e-14;    ///< m
-  double energy_rtol = 0.0;    ///< thesis (4.21); 0 disables
+  double force_rtol = 1e-8;  ///< |R| <= force_rtol * force scale
+  double force_atol = 1e-10; ///< kN
+  double disp_rtol = 1e-8;   ///< |du| <= disp_rtol * |u - u_n|
+  double disp_atol = 1e-14;  ///< m
+  double energy_rtol = 0.0;  ///< thesis (4.21); 0 disables
   int max_iterations = 25;
 };
 
@@ -59,9 +59,9 @@ struct StepRequest {
 
 struct StepReport {
   Outcome outcome;
-  int iterations = 0;                  ///< linear solves performed
-  std::vector<double> residual_norms;  ///< |R| at every evaluation
-  double lambda = 0.0;                 ///< load factor reached
+  int iterations = 0;                 ///< linear solves performed
+  std::vector<double> residual_norms; ///< |R| at every evaluation
+  double lambda = 0.0;                ///< load factor reached
 };
 
 class Solver {

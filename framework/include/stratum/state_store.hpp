@@ -22,8 +22,12 @@ template <class T> struct PointSlot {
   T* data = nullptr;
   int history_size = 0;
 
-  [[nodiscard]] auto stress() const { return Eigen::Map<std::conditional_t<std::is_const_v<T>, const Vec6, Vec6>>(data); }
-  [[nodiscard]] auto strain() const { return Eigen::Map<std::conditional_t<std::is_const_v<T>, const Vec6, Vec6>>(data + 6); }
+  [[nodiscard]] auto stress() const {
+    return Eigen::Map<std::conditional_t<std::is_const_v<T>, const Vec6, Vec6>>(data);
+  }
+  [[nodiscard]] auto strain() const {
+    return Eigen::Map<std::conditional_t<std::is_const_v<T>, const Vec6, Vec6>>(data + 6);
+  }
   [[nodiscard]] std::span<T> history() const { return {data + 12, static_cast<std::size_t>(history_size)}; }
 };
 
@@ -39,11 +43,17 @@ public:
   [[nodiscard]] int history_size() const { return history_; }
   [[nodiscard]] int stride() const { return fixed + history_; }
 
-  [[nodiscard]] PointSlot<const double> committed(std::size_t p) const { return {committed_.data() + p * stride(), history_}; }
+  [[nodiscard]] PointSlot<const double> committed(std::size_t p) const {
+    return {committed_.data() + p * stride(), history_};
+  }
   [[nodiscard]] PointSlot<double> trial(std::size_t p) { return {trial_.data() + p * stride(), history_}; }
-  [[nodiscard]] PointSlot<const double> trial(std::size_t p) const { return {trial_.data() + p * stride(), history_}; }
+  [[nodiscard]] PointSlot<const double> trial(std::size_t p) const {
+    return {trial_.data() + p * stride(), history_};
+  }
   /// Writable committed slot: only for initialisation (initial stress, history defaults).
-  [[nodiscard]] PointSlot<double> committed_for_init(std::size_t p) { return {committed_.data() + p * stride(), history_}; }
+  [[nodiscard]] PointSlot<double> committed_for_init(std::size_t p) {
+    return {committed_.data() + p * stride(), history_};
+  }
 
   /// The trial state becomes the committed state.
   void commit();

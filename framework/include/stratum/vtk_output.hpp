@@ -22,13 +22,13 @@ struct Field {
 
 /// What one output step contains.
 struct OutputStep {
-  double time = 0.0;                 ///< stage time / load factor shown by ParaView
+  double time = 0.0; ///< stage time / load factor shown by ParaView
   const Mesh* mesh = nullptr;
-  std::vector<int> cells;            ///< the cells to write (active cells)
-  std::vector<Field> point_fields;   ///< one tuple per mesh node (e.g. "displacement", 3 comps)
-  std::vector<Field> cell_fields;    ///< one tuple per written cell (e.g. "stress", "set_id")
-  Eigen::MatrixX2d ip_coords;        ///< integration points (rows)
-  std::vector<Field> ip_fields;      ///< one tuple per integration point
+  std::vector<int> cells;          ///< the cells to write (active cells)
+  std::vector<Field> point_fields; ///< one tuple per mesh node (e.g. "displacement", 3 comps)
+  std::vector<Field> cell_fields;  ///< one tuple per written cell (e.g. "stress", "set_id")
+  Eigen::MatrixX2d ip_coords;      ///< integration points (rows)
+  std::vector<Field> ip_fields;    ///< one tuple per integration point
 };
 
 /// Writes <dir>/<stem>_<k>.vtu and <dir>/<stem>_ip_<k>.vtp for k = 0, 1, ... and keeps

@@ -59,8 +59,9 @@ struct Result {
 
 /// Integrates the model over the strain increment de.
 /// q has internal_size entries on entry (q_n) and exit (q_{n+1}).
-[[nodiscard]] Result integrate(const Model& model, const Settings& settings, const Vec6& sigma_n, const Vec6& de,
-                               Vec6& sigma, std::span<double> q, Mat6& tangent, Counters* counters = nullptr);
+[[nodiscard]] Result integrate(const Model& model, const Settings& settings, const Vec6& sigma_n,
+                               const Vec6& de, Vec6& sigma, std::span<double> q, Mat6& tangent,
+                               Counters* counters = nullptr);
 
 /// The continuum elastoplastic tangent with the given active surfaces (thesis (2.69)-(2.73)).
 [[nodiscard]] Mat6 continuum_tangent(const Model& model, const Vec6& sigma, std::span<const double> q,

@@ -33,7 +33,8 @@ inline double j2(const Vec6& s) {
 /// J3 = det(deviator).
 inline double j3(const Vec6& s) {
   const Vec6 d = deviator(s);
-  return d[0] * d[1] * d[2] + 2 * d[3] * d[4] * d[5] - d[0] * d[4] * d[4] - d[1] * d[5] * d[5] - d[2] * d[3] * d[3];
+  return d[0] * d[1] * d[2] + 2 * d[3] * d[4] * d[5] - d[0] * d[4] * d[4] - d[1] * d[5] * d[5] -
+         d[2] * d[3] * d[3];
 }
 
 /// Soil-mechanics mean pressure, compression positive.

@@ -45,7 +45,8 @@ public:
   [[nodiscard]] virtual Mat6 elastic(const Vec6& sigma, std::span<const double> q) const = 0;
   /// Stress after an elastic strain increment de from sigma_n. The default integrates with the
   /// stiffness at sigma_n (exact for constant elasticity); pressure-dependent models override it.
-  [[nodiscard]] virtual Vec6 elastic_update(const Vec6& sigma_n, std::span<const double> q, const Vec6& de) const {
+  [[nodiscard]] virtual Vec6 elastic_update(const Vec6& sigma_n, std::span<const double> q,
+                                            const Vec6& de) const {
     return sigma_n + elastic(sigma_n, q) * de;
   }
   /// d elastic_update / d de (used by the closest-point return).
@@ -74,12 +75,16 @@ public:
   /// d r_k / d q (6 x internal_size).
   [[nodiscard]] virtual MatX flow_gradient_q(int k, const Vec6& sigma, std::span<const double> q) const = 0;
   /// d h_k / d sigma (internal_size x 6).
-  [[nodiscard]] virtual MatX hardening_gradient(int k, const Vec6& sigma, std::span<const double> q) const = 0;
+  [[nodiscard]] virtual MatX hardening_gradient(int k, const Vec6& sigma,
+                                                std::span<const double> q) const = 0;
   /// d h_k / d q (internal_size x internal_size).
-  [[nodiscard]] virtual MatX hardening_gradient_q(int k, const Vec6& sigma, std::span<const double> q) const = 0;
+  [[nodiscard]] virtual MatX hardening_gradient_q(int k, const Vec6& sigma,
+                                                  std::span<const double> q) const = 0;
 
   /// Whether internal variables are admissible (e.g. p_c > 0); integrators fail cleanly otherwise.
-  [[nodiscard]] virtual bool admissible(const Vec6& /*sigma*/, std::span<const double> /*q*/) const { return true; }
+  [[nodiscard]] virtual bool admissible(const Vec6& /*sigma*/, std::span<const double> /*q*/) const {
+    return true;
+  }
   /// A stress scale for relative tolerances of yield values (kPa), e.g. the current strength.
   [[nodiscard]] virtual double stress_scale(const Vec6& sigma, std::span<const double> q) const = 0;
 };
