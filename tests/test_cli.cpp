@@ -166,8 +166,9 @@ TEST_CASE("cli: nu out of range", "[cli]") {
 TEST_CASE("cli: unknown plugin name lists the known names", "[cli]") {
   const auto path =
       write_scene("unknown_plugin.toml", edit("model = \"linear_elastic\"", "model = \"elastik\""));
-  expect_one_line_error(stratum("check " + path), path + ":13:9 ",
-                        "model = \"elastik\": unknown material 'elastik'; known: linear_elastic");
+  const auto r = stratum("check " + path);
+  expect_one_line_error(r, path + ":13:9 ", "model = \"elastik\": unknown material 'elastik'; known: ");
+  CHECK(r.err.find("linear_elastic") != std::string::npos);
 }
 
 TEST_CASE("cli: missing file", "[cli]") {

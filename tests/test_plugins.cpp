@@ -7,6 +7,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 
 using namespace stratum;
@@ -27,7 +28,9 @@ TEST_CASE("plugins: only the libraries a scene names are opened", "[plugins]") {
   PluginCatalog catalog({STRATUM_PLUGIN_DIR, toy + "/good"});
   Registry reg;
   CHECK(catalog.opened().empty()); // manifests only
-  CHECK(catalog.known(PluginKind::material) == std::vector<std::string>{"linear_elastic", "toy"});
+  const auto known = catalog.known(PluginKind::material);
+  CHECK(std::find(known.begin(), known.end(), "linear_elastic") != known.end());
+  CHECK(std::find(known.begin(), known.end(), "toy") != known.end());
   catalog.require(reg, PluginKind::material, "toy");
   REQUIRE(catalog.opened().size() == 1);
   CHECK(catalog.opened()[0].find("toy_good.so") != std::string::npos);

@@ -573,10 +573,19 @@ TEST_CASE("quad: element passes committed stress and the strain increment to the
     StateStore scratch(4, 0);
     REQUIRE(el.compute(cell, un, Eigen::VectorXd::Zero(8), Constitutive{&mat, nullptr}, scratch, 0, false, rn)
                 .ok());
+    ElementResult ru;
+    StateStore scratch_u(4, 0);
+    REQUIRE(el.compute(cell, u, Eigen::VectorXd::Zero(8), Constitutive{&mat, nullptr}, scratch_u, 0, false, ru)
+                .ok());
     for (int i = 0; i < 4; ++i) {
-      const auto p = states.trial(first + static_cast<std::size_t>(i));
-      const Vec6 strain_n = scratch.trial(static_cast<std::size_t>(i)).strain(); // B u_n
-      CHECK((p.stress() - (s0 + D * (p.strain() - strain_n))).cwiseAbs().maxCoeff() < 1e-12);
+      const auto ii = static_cast<std::size_t>(i);
+      const auto p = states.trial(first + ii);
+      // The trial strain is the committed strain plus B (u - u_n); the committed strain is kept
+      // (here zero), not recomputed from u_n, so a displacement reset cannot change it.
+      const Vec6 committed_strain = states.committed(first + ii).strain();
+      const Vec6 increment = scratch_u.trial(ii).strain() - scratch.trial(ii).strain(); // B u - B u_n
+      CHECK((p.strain() - (committed_strain + increment)).cwiseAbs().maxCoeff() < 1e-15);
+      CHECK((p.stress() - (s0 + D * increment)).cwiseAbs().maxCoeff() < 1e-12);
       CHECK(p.strain().tail<2>().isZero());
     }
     // slots outside the cell's range are untouched

@@ -6,6 +6,7 @@
 #include <Eigen/UmfPackSupport>
 
 #include <cmath>
+#include <type_traits>
 
 namespace stratum {
 
@@ -16,7 +17,15 @@ bool finite(const Eigen::VectorXd& v) { return v.allFinite(); }
 /// Wraps any Eigen sparse solver with analyzePattern/factorize/solve/info.
 template <class S> class EigenBacked final : public LinearSolver {
 public:
-  explicit EigenBacked(std::string name) : name_(std::move(name)) {}
+  explicit EigenBacked(std::string name) : name_(std::move(name)) {
+    if constexpr (std::is_same_v<S, Eigen::CholmodDecomposition<SparseMatrix, Eigen::Lower>>) {
+      // AMD only: CHOLMOD's default also tries METIS when AMD's fill looks high, which at
+      // 1e6 unknowns cost ~14 s and then kept AMD's ordering anyway (docs/benchmarks.md).
+      solver_.cholmod().nmethods = 1;
+      solver_.cholmod().method[0].ordering = CHOLMOD_AMD;
+      solver_.cholmod().postorder = 1;
+    }
+  }
   std::string name() const override { return name_; }
   Outcome analyze(const SparseMatrix& a) override {
     solver_.analyzePattern(a);

@@ -333,13 +333,15 @@ private:
         B.row(1) += c;
         B.row(2) += c;
       }
-      strain.head<4>().noalias() = B * ue;
-      strain_n.head<4>().noalias() = B * une;
-      dstrain = strain - strain_n;
-
+      // The increment comes from the displacement change; the strain itself is the committed
+      // strain plus that increment, so a stage that resets displacements keeps its strains.
       const std::size_t p = first_point + static_cast<std::size_t>(i);
       const auto committed = states.committed(p);
       const auto trial = states.trial(p);
+      dstrain.setZero();
+      dstrain.head<4>().noalias() = B * (ue - une);
+      strain_n = committed.strain();
+      strain = strain_n + dstrain;
       stress_n = committed.stress();
       const MaterialInput in{stress_n, strain_n, committed.history(), dstrain, PointContext{cell.id, i}};
       MaterialOutput mo{stress, trial.history(), tangent};
