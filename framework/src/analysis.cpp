@@ -646,6 +646,7 @@ RunSummary Analysis::run() {
         msg << "step from load factor " << req.lambda_n << " to " << req.lambda
             << " failed: " << rep.outcome.message << " (gave up after " << cut_level << " cut-backs)";
         summary.outcome = Outcome::failure(rep.outcome.status, msg.str());
+        summary.steps_done = step;
         return summary;
       }
       ++cut_level;
