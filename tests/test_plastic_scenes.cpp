@@ -51,7 +51,8 @@ TEST_CASE("P1 Hill thick cylinder: limit pressure, plastic radius and Newton ord
   // the catalogue's 2 % is checked at 0.7 and 0.9 P_lim.
   for (double frac : {0.7, 0.9}) {
     const double Pf = frac * p_lim;
-    auto run = stratum::testing::scene(replace(text, "p = 190170.0", "p = " + std::to_string(Pf)), "hill_f.toml");
+    auto run =
+        stratum::testing::scene(replace(text, "p = 190170.0", "p = " + std::to_string(Pf)), "hill_f.toml");
     REQUIRE(run->run().outcome.ok());
     double lo = a, hi = b;
     for (int i = 0; i < 200; ++i) {
