@@ -7,6 +7,7 @@
 // the horizontal directions (in axisymmetry r and theta are horizontal, z vertical).
 #pragma once
 
+#include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
 #include "stratum/voigt.hpp"
@@ -25,13 +26,7 @@ namespace stratum::linear_elastic {
 
 /// Isotropic stiffness: lambda = E nu / ((1 + nu)(1 - 2 nu)), G = E / (2 (1 + nu)).
 [[nodiscard]] inline Mat6 isotropic_stiffness(double E, double nu) {
-  const double lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  const double G = E / (2.0 * (1.0 + nu));
-  Mat6 D = Mat6::Zero();
-  D.topLeftCorner<3, 3>().setConstant(lambda);
-  for (int i = 0; i < 3; ++i) D(i, i) += 2.0 * G;
-  for (int i = 3; i < 6; ++i) D(i, i) = G;
-  return D;
+  return stratum::isotropic_stiffness(E, nu);
 }
 
 /// The five constants of a cross-anisotropic (transversely isotropic) solid whose axis of

@@ -17,6 +17,7 @@
 // Tension positive, Voigt order and engineering shear as in stratum/voigt.hpp.
 #pragma once
 
+#include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
 #include "stratum/plasticity/integrate.hpp"
@@ -59,13 +60,7 @@ struct Parameters {
 
 /// Isotropic elastic stiffness (Voigt, engineering shear).
 [[nodiscard]] inline Mat6 elastic_stiffness(double E, double nu) {
-  const double lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  const double G = E / (2.0 * (1.0 + nu));
-  Mat6 D = Mat6::Zero();
-  D.topLeftCorner<3, 3>().setConstant(lambda);
-  for (int i = 0; i < 3; ++i) D(i, i) += 2.0 * G;
-  for (int i = 3; i < 6; ++i) D(i, i) = G;
-  return D;
+  return stratum::isotropic_stiffness(E, nu);
 }
 
 /// Isotropic elastic compliance, the inverse of elastic_stiffness.

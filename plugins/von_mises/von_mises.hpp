@@ -7,6 +7,7 @@
 //   associated flow r = n = df/dsigma, h = 1 (so d eps_bar_p = dlambda = sqrt(2/3 deps_p:deps_p))
 #pragma once
 
+#include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
 #include "stratum/params.hpp"
@@ -37,13 +38,7 @@ struct Constants {
 
 /// Isotropic elastic stiffness in Voigt form with engineering shear strains.
 [[nodiscard]] inline Mat6 isotropic_stiffness(double E, double nu) {
-  const double G = E / (2.0 * (1.0 + nu));
-  const double lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
-  Mat6 D = Mat6::Zero();
-  D.topLeftCorner<3, 3>().setConstant(lambda);
-  for (int i = 0; i < 3; ++i) D(i, i) += 2.0 * G;
-  for (int i = 3; i < 6; ++i) D(i, i) = G;
-  return D;
+  return stratum::isotropic_stiffness(E, nu);
 }
 
 /// The von Mises model for the shared integrators.
