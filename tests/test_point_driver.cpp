@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -82,4 +83,32 @@ TEST_CASE("point driver: malformed point files give located one-line errors", "[
   CHECK(msg("[material]\nmodel = \"plastic\"\n")
             .find("p.toml:2:9 [material] model = \"plastic\": unknown material "
                   "'plastic'; known: ") == 0);
+}
+
+TEST_CASE("point driver: every example in inputs/point runs; MCC examples reach M1 failure", "[point]") {
+  int examples = 0;
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::string(STRATUM_SOURCE_DIR) + "/inputs/point")) {
+    if (e.path().extension() != ".toml") continue;
+    ++examples;
+    auto d = PointDriver::from_file(e.path().string(), {STRATUM_PLUGIN_DIR});
+    const auto r = d->run();
+    INFO(e.path().filename().string() << ": " << r.outcome.message);
+    CHECK(r.outcome.ok());
+    const auto& last = r.rows.back().stress;
+    const double p = -(last[0] + last[1] + last[2]) / 3;
+    const double q = std::abs(last[1] - last[0]);
+    const double M = 1.2, lambda = 0.077, kappa = 0.0066, p0 = 200;
+    if (e.path().filename() == "mcc_undrained.toml") {
+      const double Lambda = (lambda - kappa) / lambda, pf = p0 * std::pow(0.5, Lambda);
+      CHECK(p == Approx(pf).epsilon(1e-4)); // 106.121
+      CHECK(q == Approx(M * pf).epsilon(1e-4));
+    }
+    if (e.path().filename() == "drained_triaxial_mcc.toml") {
+      const double pf = 3 * p0 / (3 - M); // 333.333
+      CHECK(p == Approx(pf).epsilon(1e-3));
+      CHECK(q == Approx(M * pf).epsilon(1e-3));
+    }
+  }
+  CHECK(examples >= 3);
 }
