@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 using namespace stratum;
@@ -90,4 +91,24 @@ TEST_CASE("P1 Hill thick cylinder: limit pressure, plastic radius and Newton ord
   CHECK(f.steps_done >= 20); // it got to the neighbourhood of the limit first
   INFO("stopped at load factor " << over->model().lambda << " = " << over->model().lambda * 1.01 << " P_lim");
   CHECK(over->model().lambda * 1.01 > 0.98);
+}
+
+TEST_CASE("P4 smooth strip footing on von Mises soil reaches (2 + pi) k", "[verification]") {
+  const double k = 173.205080757 / std::sqrt(3.0); // plane-strain shear strength, 100 kPa
+  const double q_lim = (2 + std::numbers::pi) * k;
+  CHECK(q_lim / k == Approx(5.1416).epsilon(1e-5)); // the catalogue's number
+  RunOptions o;
+  o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+  o.write_output = false;
+  auto an =
+      Analysis::from_file(std::string(STRATUM_SOURCE_DIR) + "/inputs/verification/strip_footing.toml", o);
+  const auto s = an->run();
+  INFO(s.outcome.message);
+  REQUIRE(s.outcome.ok());
+  const Model& m = an->model();
+  // Footing pressure: the reactions under the half footing (B/2 = 1 m) per unit length.
+  double q = 0;
+  for (int n : m.mesh.node_sets.at("foot.top")) q -= m.reactions[2 * n + 1];
+  INFO("q = " << q << " kPa = " << q / k << " k; Prandtl " << q_lim / k << " k");
+  CHECK(std::abs(q - q_lim) / q_lim < 0.03);
 }

@@ -16,7 +16,9 @@ using namespace stratum;
 
 class Newton final : public Solver {
 public:
-  explicit Newton(const Params& p) : divergence_factor_(p.real("divergence_factor")) {}
+  explicit Newton(const Params& p)
+      : divergence_factor_(p.real("divergence_factor")),
+        line_search_(static_cast<int>(p.integer("line_search"))) {}
 
   StepReport solve(NonlinearProblem& problem, const StepRequest& req, Eigen::VectorXd& u) const override {
     StepReport rep;
@@ -51,9 +53,18 @@ public:
       }
       if (auto o = problem.linear_solver().factorize(k); !o.ok()) return fail(rep, o);
       if (auto o = problem.linear_solver().solve(r, du); !o.ok()) return fail(rep, o);
-      u += du;
       ++rep.iterations;
       if (e0 < 0) e0 = std::abs(du.dot(r));
+      // Backtracking: halve the correction while the residual grows (at most line_search times).
+      // The residual of the accepted point is re-evaluated with the tangent at the loop top.
+      double step = 1.0;
+      for (int ls = 0; ls < line_search_; ++ls) {
+        Eigen::VectorXd rt;
+        const Outcome o = problem.evaluate(u + step * du, req.lambda, rt, nullptr);
+        if (o.ok() && rt.allFinite() && rt.norm() < rn) break;
+        step *= 0.5;
+      }
+      u += step * du;
     }
   }
 
@@ -63,6 +74,7 @@ private:
     return rep;
   }
   double divergence_factor_;
+  int line_search_;
 };
 
 } // namespace
@@ -72,6 +84,11 @@ STRATUM_PLUGIN(registry) {
   s.real("divergence_factor", "-", "stop when |R| exceeds this multiple of the first residual")
       .greater_than(1)
       .defaults_to(1e6);
+  s.integer("line_search", "-",
+            "backtracking halvings allowed when a correction increases |R| (0: plain Newton)")
+      .at_least(0)
+      .at_most(30)
+      .defaults_to(0LL);
   registry.add(Factory<Solver>{.name = "newton",
                                .summary = "full Newton-Raphson, tangent refactorized every iteration",
                                .schema = std::move(s),
