@@ -575,8 +575,9 @@ TEST_CASE("quad: element passes committed stress and the strain increment to the
                 .ok());
     ElementResult ru;
     StateStore scratch_u(4, 0);
-    REQUIRE(el.compute(cell, u, Eigen::VectorXd::Zero(8), Constitutive{&mat, nullptr}, scratch_u, 0, false, ru)
-                .ok());
+    REQUIRE(
+        el.compute(cell, u, Eigen::VectorXd::Zero(8), Constitutive{&mat, nullptr}, scratch_u, 0, false, ru)
+            .ok());
     for (int i = 0; i < 4; ++i) {
       const auto ii = static_cast<std::size_t>(i);
       const auto p = states.trial(first + ii);

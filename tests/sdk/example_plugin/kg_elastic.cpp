@@ -7,7 +7,7 @@
 
 STRATUM_PLUGIN(registry) {
   stratum::Factory<stratum::Material> f;
-  f.name = "example_kg_elastic";  // what scenes write as  model = "example_kg_elastic"
+  f.name = "example_kg_elastic"; // what scenes write as  model = "example_kg_elastic"
   f.summary = "isotropic linear elastic solid given by bulk modulus K and shear modulus G (SDK example)";
   f.schema.real("K", "kPa", "bulk modulus: mean stress per volumetric strain").greater_than(0.0);
   f.schema.real("G", "kPa", "shear modulus: shear stress per engineering shear strain").greater_than(0.0);

@@ -25,16 +25,16 @@ class KGElastic final : public stratum::Material {
 public:
   KGElastic(double K, double G) : D_(stiffness(K, G)) {}
 
-  [[nodiscard]] bool is_linear() const override { return true; }          // D never changes
-  [[nodiscard]] bool symmetric_tangent() const override { return true; }  // D = D^T
-  [[nodiscard]] int history_size() const override { return 0; }           // nothing to remember
+  [[nodiscard]] bool is_linear() const override { return true; }         // D never changes
+  [[nodiscard]] bool symmetric_tangent() const override { return true; } // D = D^T
+  [[nodiscard]] int history_size() const override { return 0; }          // nothing to remember
 
   // Pure and const: reads only `in`, writes only `out`. Trouble is returned, never thrown or printed.
   [[nodiscard]] stratum::Outcome update(const stratum::MaterialInput& in,
                                         stratum::MaterialOutput& out) const override {
     if (!in.dstrain.allFinite())
-      return stratum::Outcome::failure(
-          stratum::Status::non_finite, "example_kg_elastic: non-finite strain increment at element " +
+      return stratum::Outcome::failure(stratum::Status::non_finite,
+                                       "example_kg_elastic: non-finite strain increment at element " +
                                            std::to_string(in.where.element) + ", point " +
                                            std::to_string(in.where.point));
     out.stress.noalias() = in.stress_n + D_ * in.dstrain;

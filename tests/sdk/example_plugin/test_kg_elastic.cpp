@@ -48,11 +48,13 @@ void material_checks() {
   stratum::Vec6 zero = stratum::Vec6::Zero(), de = stratum::Vec6::Zero();
   de.head<3>().setConstant(1e-3);
   const stratum::Vec6 s_vol = respond(m, zero, zero, de);
-  expect(rel(s_vol.head<3>().mean(), K * 3e-3) < 1e-12, "mean stress = K * volumetric strain", s_vol.head<3>().mean(), K * 3e-3);
+  expect(rel(s_vol.head<3>().mean(), K * 3e-3) < 1e-12, "mean stress = K * volumetric strain",
+         s_vol.head<3>().mean(), K * 3e-3);
   de.setZero();
   de[stratum::voigt::xy] = 2e-3;
   const stratum::Vec6 s_shear = respond(m, zero, zero, de);
-  expect(rel(s_shear[stratum::voigt::xy], G * 2e-3) < 1e-12, "shear stress = G * engineering shear", s_shear[stratum::voigt::xy], G * 2e-3);
+  expect(rel(s_shear[stratum::voigt::xy], G * 2e-3) < 1e-12, "shear stress = G * engineering shear",
+         s_shear[stratum::voigt::xy], G * 2e-3);
 
   // Tangent against central differences, from a loaded state with a general increment.
   stratum::Vec6 s_n, e_n;
@@ -79,8 +81,8 @@ void material_checks() {
   stratum::Mat6 t;
   stratum::MaterialOutput out{s, {}, t};
   const stratum::Outcome r = m.update(stratum::MaterialInput{s_n, e_n, {}, de, {3, 1}}, out);
-  expect(r.status == stratum::Status::non_finite, "NaN increment -> Status::non_finite", static_cast<double>(r.status),
-         static_cast<double>(stratum::Status::non_finite));
+  expect(r.status == stratum::Status::non_finite, "NaN increment -> Status::non_finite",
+         static_cast<double>(r.status), static_cast<double>(stratum::Status::non_finite));
 }
 
 void lame_check(const std::string& scene) {
@@ -91,7 +93,8 @@ void lame_check(const std::string& scene) {
   auto analysis = stratum::Analysis::from_file(scene, options);
   const stratum::RunSummary summary = analysis->run();
   if (!summary.outcome.ok()) {
-    std::printf("FAIL run: %s: %s\n", stratum::to_string(summary.outcome.status), summary.outcome.message.c_str());
+    std::printf("FAIL run: %s: %s\n", stratum::to_string(summary.outcome.status),
+                summary.outcome.message.c_str());
     ++failures;
     return;
   }
