@@ -13,6 +13,7 @@
 //
 // Usage: bench_integrators [--no-write] [--root DIR]   (DIR defaults to the source tree)
 #include "../../plugins/cam_clay/cam_clay.hpp"
+#include "../../plugins/mohr_coulomb/mohr_coulomb.hpp"
 #include "../../plugins/von_mises/von_mises.hpp"
 #include "stratum/plasticity/integrate.hpp"
 #include "stratum/plasticity/invariants.hpp"
@@ -25,6 +26,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <unistd.h>
@@ -37,6 +39,7 @@ using stratum::Vec6;
 namespace pl = stratum::plasticity;
 namespace vm = stratum::von_mises;
 namespace cc = stratum::cam_clay;
+namespace mc = stratum::mohr_coulomb;
 namespace fs = std::filesystem;
 
 constexpr const char* begin_marker = "<!-- bench_integrators:begin -->";
@@ -196,6 +199,44 @@ struct McRow {
   double err_eta = nan, err_p = nan, err_q = nan, time = nan;
   long yield_evaluations = 0, iterations = 0;
 };
+
+// ---------------------------------------------------------------------------------- Mohr-Coulomb
+/// Rounded Mohr-Coulomb (phi = 20 deg, within the convex range of the Gudehus rounding, psi = 5 deg,
+/// c = 10 kPa, E = 20 MPa, nu = 0.3) from p0 = 100 kPa along a non-proportional strain path: the
+/// increment of step i turns from compression a = (1/4, -1, 1/4, 0, 0, 0) to shear b = (0, 0, 0, 3/2, 0, 0)
+/// over the path, de_i = (0.02/N) (cos t_i a + sin t_i b), t_i = (i + 1/2) pi / (2N). A proportional
+/// path would end on a stationary stress that every scheme finds exactly; this one keeps the stress
+/// moving over the surface, so the end state depends on how well the path is integrated.
+struct MohrRun {
+  bool ok = true;
+  Vec6 sigma = Vec6::Constant(nan);
+  pl::Counters counters;
+};
+
+MohrRun mohr_run(const mc::RoundedModel& m, const pl::Settings& s, int N) {
+  MohrRun r;
+  Vec6 sigma = Vec6::Zero();
+  sigma[0] = sigma[1] = sigma[2] = -100.0;
+  Vec6 a = Vec6::Zero(), b = Vec6::Zero();
+  a[0] = a[2] = 0.25, a[1] = -1.0;
+  b[3] = 1.5;
+  const double d = 0.02 / N;
+  std::array<double, 0> none{};
+  for (int i = 0; i < N; ++i) {
+    const double t = (i + 0.5) * std::numbers::pi / (2.0 * N);
+    const Vec6 de = d * (std::cos(t) * a + std::sin(t) * b);
+    Vec6 out;
+    Mat6 T;
+    const pl::Result res = pl::integrate(m, s, sigma, de, out, none, T, &r.counters);
+    if (!res.outcome.ok() || !out.allFinite()) {
+      r.ok = false;
+      return r;
+    }
+    sigma = out;
+  }
+  r.sigma = sigma;
+  return r;
+}
 
 // ---------------------------------------------------------------------------------- output
 std::string pct(double v) { return std::isnan(v) ? "fail" : fmt(v != 0.0 && v < 0.01 ? "%.2e" : "%.3f", v); }
@@ -358,6 +399,46 @@ int run(int argc, char** argv) {
                   sci(row.err_p).c_str(), sci(row.err_q).c_str(), 1e3 * row.time, row.yield_evaluations);
     }
   if (!csv) throw std::runtime_error("cannot write mcc_error_cost.csv");
+
+  // (c) rounded Mohr-Coulomb error vs cost against a 20000-step closest-point reference
+  mc::Parameters mp;
+  mp.E = 2.0e4, mp.nu = 0.3, mp.c = 10.0, mp.phi = 20.0, mp.psi = 5.0, mp.form = mc::Form::rounded;
+  const mc::RoundedModel mohr(mp);
+  // Reference: the second-order midpoint rule with 20000 steps (closest_point is first order on
+  // this path and would leave its own error, ~5e-6, in every comparison).
+  pl::Settings mref_settings = settings_for(pl::Scheme::midpoint);
+  mref_settings.ftol = 1e-12;
+  const MohrRun mref = mohr_run(mohr, mref_settings, 20000);
+  if (!mref.ok) throw std::runtime_error("the 20000-step midpoint Mohr-Coulomb reference failed");
+  std::printf("\nMohr-Coulomb (rounded) reference: p = %.6f q = %.6f kPa\n", pl::p_comp(mref.sigma),
+              pl::q_mises(mref.sigma));
+  struct MohrRow {
+    pl::Scheme scheme;
+    int steps;
+    double err, time;
+    long yield_evaluations;
+  };
+  std::vector<MohrRow> mrows;
+  std::ofstream mcsv(figures / "mc_error_cost.csv");
+  mcsv << "scheme,steps,ok,err_sigma_ref,time_s,yield_evaluations\n";
+  for (pl::Scheme s : all_schemes)
+    for (int N : step_counts) {
+      std::vector<double> times;
+      MohrRun r;
+      for (int rep = 0; rep < 3; ++rep) {
+        const auto t0 = std::chrono::steady_clock::now();
+        r = mohr_run(mohr, settings_for(s), N);
+        times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      }
+      std::sort(times.begin(), times.end());
+      const double err = r.ok ? tnorm(r.sigma - mref.sigma) / tnorm(mref.sigma) : nan;
+      mrows.push_back({s, N, err, times[1], r.counters.yield_evaluations});
+      mcsv << pl::to_string(s) << ',' << N << ',' << (r.ok ? 1 : 0) << ',' << fmt("%.6e", err) << ','
+           << fmt("%.6e", times[1]) << ',' << r.counters.yield_evaluations << '\n';
+      std::printf("%-15s %5d %11s %9.3f %10ld\n", pl::to_string(s), N, sci(err).c_str(), 1e3 * times[1],
+                  r.counters.yield_evaluations);
+    }
+  if (!mcsv) throw std::runtime_error("cannot write mc_error_cost.csv");
   if (!write) return 0;
 
   // markdown section
@@ -399,6 +480,26 @@ int run(int argc, char** argv) {
        << sci(r.err_p) << " | " << sci(r.err_q) << " | " << fmt("%.3f", 1e3 * r.time) << " | "
        << r.yield_evaluations << " |\n";
   md << "\n![MCC error vs cost](figures/mcc_error_cost.png)\n\n";
+  md << "### Rounded Mohr-Coulomb compression path: error vs cost\n\n"
+     << "Gudehus-rounded Mohr-Coulomb (phi = 20 deg, psi = 5 deg, c = 10 kPa, E = 20 MPa, nu = 0.3), from "
+        "p0 = 100 kPa along a strain path whose increments turn from triaxial compression (d/4, -d, d/4) "
+        "to shear (gamma_xy = 3d/2) over N steps (total length 0.02), so the stress keeps moving over the "
+        "surface. *err* = |sigma - sigma_ref| / |sigma_ref| "
+        "against a 20000-step midpoint (alpha = 0.5) run (FTOL 1e-12); no closed form exists for this "
+        "path.\n\n"
+     << "| scheme | N=1 | N=10 | N=100 | N=1000 | yield ev (N=100) | time ms (N=100) |\n"
+        "|---|---:|---:|---:|---:|---:|---:|\n";
+  for (pl::Scheme sc : all_schemes) {
+    auto at = [&](int N) -> const MohrRow& {
+      for (const auto& r : mrows)
+        if (r.scheme == sc && r.steps == N) return r;
+      throw std::runtime_error("missing Mohr-Coulomb row");
+    };
+    md << "| " << pl::to_string(sc) << " | " << sci(at(1).err) << " | " << sci(at(10).err) << " | "
+       << sci(at(100).err) << " | " << sci(at(1000).err) << " | " << at(100).yield_evaluations << " | "
+       << fmt("%.3f", 1e3 * at(100).time) << " |\n";
+  }
+  md << "\n";
   md << guidance(iso, rows);
   md << end_marker << "\n";
   write_section(root / "docs" / "benchmarks.md", md.str());
