@@ -192,3 +192,24 @@ TEST_CASE("cli: bad references and usage errors", "[cli]") {
   expect_one_line_error(stratum("frobnicate"), "", "unknown command 'frobnicate'");
   expect_one_line_error(stratum("run"), "", "no scene file given");
 }
+
+TEST_CASE("cli: stratum point runs the examples and writes CSV; malformed point files fail in one line",
+          "[cli]") {
+  for (const std::string ex : {"elastic_paths", "mcc_undrained", "drained_triaxial_mcc"}) {
+    const auto csv = (scratch() / (ex + ".csv")).string();
+    auto r =
+        stratum("point " + std::string(STRATUM_SOURCE_DIR) + "/inputs/point/" + ex + ".toml --out " + csv);
+    INFO(ex << ": " << r.err);
+    CHECK(r.code == 0);
+    CHECK(r.out.find("results: " + csv) != std::string::npos);
+    std::ifstream in(csv);
+    std::string header;
+    std::getline(in, header);
+    CHECK(header.rfind("step,path,eps_xx", 0) == 0);
+  }
+  const auto bad = write_scene("bad_point.toml", "[material]\nmodel = \"linear_elastic\"\nE = -5.0\n"
+                                                 "[[paths]]\ntype = \"oedometer\"\naxial_strain = -0.01\n");
+  expect_one_line_error(stratum("point " + bad), bad + ":3:5 ", "[material] E = -5 is outside (0, inf)");
+  expect_one_line_error(stratum("point /nonexistent/p.toml"), "/nonexistent/p.toml ",
+                        "cannot open point file '/nonexistent/p.toml'");
+}
