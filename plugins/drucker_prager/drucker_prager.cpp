@@ -2,6 +2,7 @@
 // The model and the material live in drucker_prager.hpp (shared with the tests).
 #include "drucker_prager.hpp"
 
+#include "stratum/elasticity.hpp"
 #include "stratum/plugin.hpp"
 
 #include <memory>
@@ -43,8 +44,7 @@ STRATUM_PLUGIN(registry) {
   f.name = "drucker_prager";
   f.summary = "Drucker-Prager cone matched to Mohr-Coulomb, non-associated flow, linear cohesion hardening, "
               "closed-form apex return";
-  f.schema.real("E", "kPa", "Young's modulus").greater_than(0.0);
-  f.schema.real("nu", "-", "Poisson's ratio").greater_than(-1.0).less_than(0.5).defaults_to(0.3);
+  stratum::add_isotropic_elastic_parameters(f.schema);
   f.schema.real("c", "kPa", "cohesion (initial value when H_c > 0)").at_least(0.0);
   f.schema.real("phi", "deg", "friction angle").greater_than(0.0).less_than(90.0);
   f.schema

@@ -2,6 +2,7 @@
 // The models and the material live in mohr_coulomb.hpp (shared with the tests).
 #include "mohr_coulomb.hpp"
 
+#include "stratum/elasticity.hpp"
 #include "stratum/plugin.hpp"
 
 #include <memory>
@@ -50,8 +51,7 @@ STRATUM_PLUGIN(registry) {
   f.name = "mohr_coulomb";
   f.summary = "perfectly plastic Mohr-Coulomb, exact pyramid (principal-space return, tension cut-off) or "
               "Gudehus-rounded, non-associated flow";
-  f.schema.real("E", "kPa", "Young's modulus").greater_than(0.0);
-  f.schema.real("nu", "-", "Poisson's ratio").greater_than(-1.0).less_than(0.5).defaults_to(0.3);
+  stratum::add_isotropic_elastic_parameters(f.schema);
   f.schema.real("c", "kPa", "cohesion").at_least(0.0);
   f.schema.real("phi", "deg", "friction angle").greater_than(0.0).less_than(90.0);
   f.schema

@@ -150,8 +150,7 @@ private:
 /// The parameter schema of the "von_mises" material.
 [[nodiscard]] inline Schema schema() {
   Schema s;
-  s.real("E", "kPa", "Young's modulus").greater_than(0.0);
-  s.real("nu", "-", "Poisson's ratio").greater_than(-1.0).less_than(0.5).defaults_to(0.3);
+  stratum::add_isotropic_elastic_parameters(s);
   s.real("sigma_y", "kPa", "initial uniaxial yield stress (sqrt(3) times the shear strength)")
       .greater_than(0.0);
   s.real("H", "kPa", "linear isotropic hardening modulus d sigma_y / d eps_bar_p (0: perfectly plastic)")

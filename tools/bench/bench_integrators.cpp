@@ -15,6 +15,7 @@
 #include "../../plugins/cam_clay/cam_clay.hpp"
 #include "../../plugins/mohr_coulomb/mohr_coulomb.hpp"
 #include "../../plugins/von_mises/von_mises.hpp"
+#include "docs_section.hpp"
 #include "stratum/plasticity/integrate.hpp"
 #include "stratum/plasticity/invariants.hpp"
 #include <algorithm>
@@ -243,31 +244,7 @@ std::string pct(double v) { return std::isnan(v) ? "fail" : fmt(v != 0.0 && v < 
 std::string sci(double v) { return std::isnan(v) ? "fail" : std::isinf(v) ? "inf" : fmt("%.1e", v); }
 
 void write_section(const fs::path& path, const std::string& block) {
-  std::string old;
-  {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    old = ss.str();
-  }
-  std::string text;
-  const auto b = old.find(begin_marker);
-  const auto e = b == std::string::npos ? std::string::npos : old.find(end_marker, b);
-  if (e != std::string::npos) {
-    auto after = e + std::string(end_marker).size();
-    if (after < old.size() && old[after] == '\n') ++after;
-    text = old.substr(0, b) + block + old.substr(after);
-  } else {
-    text = old + (old.empty() || old.back() == '\n' ? "\n" : "\n\n") + block;
-  }
-  const fs::path tmp = path.string() + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
+  stratum::bench::replace_docs_section(path, begin_marker, end_marker, block);
 }
 
 /// The row of a scheme and step count (rows holds every pair).

@@ -10,6 +10,7 @@
 //
 // Usage: bench_linear [--max-dof N] [--repeat K] [--no-write] [--docs PATH] [--plugin-dir DIR]
 // README.md in this folder describes the columns.
+#include "docs_section.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/linear_solver.hpp"
 #include "stratum/model.hpp"
@@ -397,37 +398,7 @@ std::string section(const std::vector<Measured>& rows, const Options& o, const s
 
 /// Replaces this program's section of the file (or appends it), keeping the rest; atomic.
 void write_docs(const std::string& path, const std::string& block) {
-  std::string old;
-  if (std::ifstream in(path, std::ios::binary); in) {
-    std::stringstream ss;
-    ss << in.rdbuf();
-    old = ss.str();
-  }
-  std::string text;
-  const auto b = old.find(begin_marker);
-  const auto e = b == std::string::npos ? std::string::npos : old.find(end_marker, b);
-  if (e != std::string::npos) {
-    auto after = e + std::string(end_marker).size();
-    if (after < old.size() && old[after] == '\n') ++after;
-    text = old.substr(0, b) + block + old.substr(after);
-  } else if (old.empty()) {
-    text =
-        "# Benchmarks\n\nMeasured figures of Stratum's benchmark programs (`tools/bench`). Each section is "
-        "rewritten by the program named in it.\n\n" +
-        block;
-  } else {
-    text = old + (old.back() == '\n' ? "\n" : "\n\n") + block;
-  }
-  const fs::path target(path);
-  if (target.has_parent_path()) fs::create_directories(target.parent_path());
-  const fs::path tmp = target.string() + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) throw stratum::Error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, target);
+  stratum::bench::replace_docs_section(path, begin_marker, end_marker, block);
 }
 
 void usage(std::ostream& os) {

@@ -18,4 +18,10 @@ namespace stratum {
   return D;
 }
 
+/// Declares E (kPa, > 0, required) and nu ((-1, 0.5), default 0.3) in a material's schema.
+inline void add_isotropic_elastic_parameters(Schema& s) {
+  s.real("E", "kPa", "Young's modulus").greater_than(0.0);
+  s.real("nu", "-", "Poisson's ratio").greater_than(-1.0).less_than(0.5).defaults_to(0.3);
+}
+
 } // namespace stratum
