@@ -38,7 +38,6 @@ public:
     r.resize(size());
     for (int d = 0; d < m_.dofs.total(); ++d)
       if (const int e = m_.dofs.eq[d]; e >= 0) r[e] = lambda * m_.load_ref[d] - fint_[d];
-    last_lambda_ = lambda;
     return {};
   }
   SparseMatrix make_tangent() const override { return a_.make_matrix(); }
@@ -54,7 +53,6 @@ private:
   const Assembler& a_;
   LinearSolver& ls_;
   Eigen::VectorXd ref_, full_, fint_;
-  double last_lambda_ = 0.0;
 };
 
 /// Tangent (Euler) predictor for a step from lambda_n to lambda: u += K_n^-1 dR/dlambda (lambda -
@@ -230,8 +228,6 @@ void Analysis::Impl::build(const toml::table& root) {
   std::vector<std::string> dirs =
       options.plugin_dirs.empty() ? PluginCatalog::default_directories() : options.plugin_dirs;
   {
-    Schema s;
-    s.real_list("path", "-", "unused").defaults_to(std::vector<double>{});
     const auto& pt = optional_table(root, "plugins");
     for (auto&& [key, value] : pt) {
       if (key.str() != "path")
