@@ -1,6 +1,6 @@
 // stratum: the command-line front end.
 //
-//   stratum run SCENE.toml [--out DIR] [--verbose]
+//   stratum run SCENE.toml [--out DIR] [--restart-from CHECKPOINT] [--verbose]
 //   stratum check SCENE.toml
 //   stratum plugins [--describe NAME]
 //   stratum --version
@@ -25,11 +25,12 @@ namespace {
 
 using namespace stratum;
 
-constexpr const char* usage = "usage: stratum run SCENE.toml [--out DIR] [--verbose]\n"
-                              "       stratum check SCENE.toml\n"
-                              "       stratum point POINT.toml [--out FILE.csv]\n"
-                              "       stratum plugins [--describe NAME]\n"
-                              "       stratum --version\n";
+constexpr const char* usage =
+    "usage: stratum run SCENE.toml [--out DIR] [--restart-from CHECKPOINT] [--verbose]\n"
+    "       stratum check SCENE.toml\n"
+    "       stratum point POINT.toml [--out FILE.csv]\n"
+    "       stratum plugins [--describe NAME]\n"
+    "       stratum --version\n";
 
 constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,
                                 PluginKind::solver};
@@ -105,8 +106,7 @@ int point(const std::vector<std::string>& args) {
   }
   if (file.empty()) throw Error("no point file given (see stratum --help)");
   if (out.empty())
-    out =
-        (std::filesystem::path("results") / (std::filesystem::path(file).stem().string() + ".csv")).string();
+    out = (std::filesystem::path("out") / (std::filesystem::path(file).stem().string() + ".csv")).string();
   const auto driver = PointDriver::from_file(file);
   const PointRun r = driver->run();
   PointDriver::write_csv(r, out); // what was computed is kept, also after a failure
@@ -120,16 +120,20 @@ int point(const std::vector<std::string>& args) {
 }
 
 int run(const std::vector<std::string>& args, bool check_only) {
-  std::string scene, out;
+  std::string scene, out, restart;
   bool verbose = false;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--out" && !check_only) {
       if (i + 1 >= args.size()) throw Error("--out needs a directory");
       out = args[++i];
+    } else if (args[i] == "--restart-from" && !check_only) {
+      if (i + 1 >= args.size()) throw Error("--restart-from needs a checkpoint file");
+      restart = args[++i];
     } else if (args[i] == "--verbose" && !check_only) {
       verbose = true;
     } else if (!args[i].empty() && args[i][0] == '-') {
-      throw Error("unknown option '" + args[i] + "'; allowed: --out DIR, --verbose (see stratum --help)");
+      throw Error("unknown option '" + args[i] +
+                  "'; allowed: --out DIR, --restart-from CHECKPOINT, --verbose (see stratum --help)");
     } else if (scene.empty()) {
       scene = args[i];
     } else {
@@ -139,6 +143,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
   if (scene.empty()) throw Error("no scene file given (see stratum --help)");
   RunOptions opts;
   opts.out_dir = out;
+  opts.restart_from = restart;
   const bool tty = isatty(STDERR_FILENO) != 0;
   opts.on_step = [&](int step, int steps, double lambda, const StepReport& rep) {
     if (verbose) {
@@ -168,6 +173,18 @@ int run(const std::vector<std::string>& args, bool check_only) {
   std::cout << "done: " << s.steps_done << " steps";
   if (s.cutbacks) std::cout << " (" << s.cutbacks << " cut-backs)";
   std::cout << "\n";
+  if (s.stop_reason == "failure")
+    std::cout << "stopped: a load step failed after its cut-backs (the failure load is reached)\n";
+  else if (s.stop_reason == "settlement")
+    std::cout << "stopped: the settlement limit of the stage is exceeded\n";
+  if (!s.load_settlement.empty()) {
+    std::cout << "\n  load (kN)   settlement (mm)\n";
+    for (const auto& r : s.load_settlement)
+      std::cout << "  " << std::setw(9) << std::fixed << std::setprecision(1) << r[0] << "   "
+                << std::setw(15) << std::setprecision(3) << r[1] << "\n";
+    std::cout << std::defaultfloat << "\n";
+  }
+  for (const auto& c : s.checkpoints) std::cout << "checkpoint: " << c << "\n";
   if (!s.pvd.empty()) std::cout << "results: " << s.pvd << "\n";
   return 0;
 }

@@ -1,13 +1,18 @@
 #include "stratum/analysis.hpp"
 
+#include "checkpoint.hpp"
+#include "stage.hpp"
 #include "stratum/mesh_io.hpp"
 #include "stratum/vtk_output.hpp"
 #include "toml_check.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -24,7 +29,7 @@ using io::location;
 using io::require_string;
 using io::show;
 
-/// Static equilibrium of the model: R(u, lambda) = lambda F_ref - F_int(u).
+/// Static equilibrium of the model: R(u, lambda) = F_base + lambda F_ref - F_int(u).
 class StaticProblem final : public NonlinearProblem {
 public:
   StaticProblem(Model& m, const Assembler& a, LinearSolver& ls) : m_(m), a_(a), ls_(ls) {
@@ -37,14 +42,14 @@ public:
     if (!o.ok()) return o;
     r.resize(size());
     for (int d = 0; d < m_.dofs.total(); ++d)
-      if (const int e = m_.dofs.eq[d]; e >= 0) r[e] = lambda * m_.load_ref[d] - fint_[d];
+      if (const int e = m_.dofs.eq[d]; e >= 0) r[e] = m_.load_base[d] + lambda * m_.load_ref[d] - fint_[d];
     return {};
   }
   SparseMatrix make_tangent() const override { return a_.make_matrix(); }
   const Eigen::VectorXd& reference_load() const override { return ref_; }
   LinearSolver& linear_solver() override { return ls_; }
   double force_scale(double lambda) const override {
-    return std::max(std::abs(lambda) * m_.load_ref.norm(), fint_.size() ? fint_.norm() : 0.0);
+    return std::max((m_.load_base + lambda * m_.load_ref).norm(), fint_.size() ? fint_.norm() : 0.0);
   }
   const Eigen::VectorXd& internal_force() const { return fint_; }
 
@@ -141,6 +146,9 @@ Schema output_schema() {
   s.integer("every", "-", "write every n-th step (the last step is always written)")
       .at_least(1)
       .defaults_to(1LL);
+  s.text("pile_head", {}, "edge set of the loaded pile head: curves/load_settlement.csv")
+      .defaults_to(std::string());
+  s.text("pile_cells", {}, "cell set of the pile: curves/axial_force.csv").defaults_to(std::string());
   return s;
 }
 
@@ -201,8 +209,21 @@ struct Analysis::Impl {
   Convergence convergence;
   bool vtk = true, ip_output = true;
   int every = 1;
+  std::vector<stage::Stage> stages;
+  std::vector<stage::LoadSpec> loads; ///< loads applied at the current state, in order
+  Eigen::VectorXd initial_prescribed; ///< [[constraints]] values, applied over the first stage
+  std::string fingerprint;
+  double time = 0.0; ///< output time: stage number - 1 + load factor
+  // Pile curves ([output] pile_head, pile_cells)
+  std::string pile_head, pile_cells;
 
   void build(const toml::table& root);
+  stage::LoadSpec parse_load(const toml::table& t, const std::string& where_ctx,
+                             const std::string& default_name);
+  stage::Stage parse_stage(const toml::table& t, const std::string& ctx, std::set<std::string>& load_names);
+  /// Runs stage k; false when the run ends here (failure in summary.outcome, or an early stop).
+  bool run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
+                 std::vector<std::array<double, 3>>& axial_rows);
   void write_step(VtkSeriesWriter& w, double time) const;
 };
 
@@ -210,7 +231,7 @@ void Analysis::Impl::build(const toml::table& root) {
   // ---- top level
   static const std::vector<std::string_view> top_keys{"title", "analysis",  "convergence", "solver",
                                                       "mesh",  "materials", "domains",     "constraints",
-                                                      "loads", "output",    "plugins"};
+                                                      "loads", "stages",    "output",      "plugins"};
   for (auto&& [key, value] : root) {
     const std::string k(key.str());
     if (std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end()) {
@@ -265,6 +286,8 @@ void Analysis::Impl::build(const toml::table& root) {
   vtk = op.flag("vtk");
   ip_output = op.flag("integration_points");
   every = static_cast<int>(op.integer("every"));
+  pile_head = op.text("pile_head");
+  pile_cells = op.text("pile_cells");
 
   // ---- solver plugin
   {
@@ -454,78 +477,281 @@ void Analysis::Impl::build(const toml::table& root) {
       throw Error(location(*t),
                   "[[constraints]] nodes = \"" + set + "\" constrains nothing; give ux and/or uy");
   }
-  // Nodes that no domain uses carry no stiffness: fix them.
-  std::vector<char> used(model.mesh.nodes.size(), 0);
-  for (const auto& dm : model.domains)
-    for (int c : dm.cells)
-      for (int n : model.mesh.cells[c].nodes)
-        if (n >= 0) used[n] = 1;
-  for (std::size_t n = 0; n < used.size(); ++n)
-    if (!used[n]) fixed[2 * n] = fixed[2 * n + 1] = 1;
-  model.dofs.build(fixed);
+  // Nodes that no active cell uses carry no stiffness: rebuild_dofs() fixes them too.
+  model.constrained = fixed;
+  model.active.assign(model.mesh.cells.size(), 1);
+  model.rebuild_dofs();
   model.u = Eigen::VectorXd::Zero(ndof);
   model.reactions = Eigen::VectorXd::Zero(ndof);
 
-  // ---- loads (at load factor 1)
+  // ---- loads of a scene without stages, and the stages
+  const auto legacy_loads = table_list(root, "loads");
+  const auto stage_list = table_list(root, "stages");
+  if (!stage_list.empty() && !legacy_loads.empty())
+    throw Error(location(*legacy_loads.front()),
+                "[[loads]] cannot be combined with [[stages]]; give loads as actions of a stage");
+  initial_prescribed = model.prescribed;
+  model.prescribed_base = Eigen::VectorXd::Zero(ndof);
+  model.load_base = Eigen::VectorXd::Zero(ndof);
   model.load_ref = Eigen::VectorXd::Zero(ndof);
-  for (const auto* t : table_list(root, "loads")) {
-    const std::string type = require_string(*t, "type", "[[loads]]");
-    if (type == "pressure") {
-      Schema s;
-      s.text("edges", {}, "edge set");
-      s.real("p", "kPa", "normal pressure, positive pushing into the body");
-      const auto p = check_table(*t, s, "[[loads]] type = \"pressure\"", {"type"});
-      auto es = model.mesh.edge_sets.find(p.text("edges"));
-      if (es == model.mesh.edge_sets.end())
-        throw Error(p.where("edges"),
-                    "[[loads]] edges = \"" + p.text("edges") +
-                        "\" is not an edge set of the mesh; known: " + key_list(model.mesh.edge_sets));
-      add_edge_pressure(model.mesh, es->second, p.real("p"), model.formulation, model.load_ref);
-    } else if (type == "force") {
-      Schema s;
-      s.text("nodes", {}, "node set");
-      s.real("fx", "kN", "force per node along x (axisymmetric: total over the circle)").defaults_to(0.0);
-      s.real("fy", "kN", "force per node along y (axisymmetric: total over the circle)").defaults_to(0.0);
-      const auto p = check_table(*t, s, "[[loads]] type = \"force\"", {"type"});
-      auto ns = model.mesh.node_sets.find(p.text("nodes"));
-      if (ns == model.mesh.node_sets.end())
-        throw Error(p.where("nodes"),
-                    "[[loads]] nodes = \"" + p.text("nodes") +
-                        "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets));
-      for (int n : ns->second) {
-        model.load_ref[2 * n] += p.real("fx");
-        model.load_ref[2 * n + 1] += p.real("fy");
-      }
-    } else if (type == "gravity") {
-      Schema s;
-      s.text("cells", {}, "cell set").defaults_to(std::string("all"));
-      s.real("gamma", "kN/m3", "unit weight, acting downwards (-y)").at_least(0);
-      const auto p = check_table(*t, s, "[[loads]] type = \"gravity\"", {"type"});
-      auto cs = model.mesh.cell_sets.find(p.text("cells"));
-      if (cs == model.mesh.cell_sets.end())
-        throw Error(p.where("cells").known() ? p.where("cells") : location(*t),
-                    "[[loads]] cells = \"" + p.text("cells") +
-                        "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
-      std::set<int> in_set(cs->second.begin(), cs->second.end());
-      const Vec2 b(0.0, -p.real("gamma"));
-      std::vector<int> nodes;
-      Eigen::MatrixX2d x;
-      Eigen::VectorXd fe;
-      for (const auto& dm : model.domains)
-        for (int c : dm.cells) {
-          if (!in_set.count(c)) continue;
-          model.cell_nodes(c, nodes, x);
-          dm.element->body_force(ElementData{c, model.mesh.cells[c].shape(), &x}, b, fe);
-          for (std::size_t a = 0; a < nodes.size(); ++a)
-            for (int k = 0; k < 2; ++k)
-              model.load_ref[2 * nodes[a] + k] += fe[static_cast<Eigen::Index>(2 * a) + k];
-        }
-    } else {
-      throw Error(location(*t->get("type")),
-                  "[[loads]] type = \"" + type +
-                      "\" is not allowed; allowed: one of: pressure, force, gravity");
+  std::set<std::string> load_names;
+  if (stage_list.empty()) {
+    stage::Stage st;
+    st.name = "load";
+    st.where = location(root);
+    st.steps = steps;
+    st.max_cutbacks = max_cutbacks;
+    st.every = every;
+    st.vtk = vtk;
+    st.checkpoint = false;
+    for (std::size_t i = 0; i < legacy_loads.size(); ++i) {
+      stage::Action a;
+      a.kind = stage::Action::Kind::add_load;
+      a.where = location(*legacy_loads[i]);
+      a.load = parse_load(*legacy_loads[i], "[[loads]]", "load#" + std::to_string(i + 1));
+      st.actions.push_back(a);
     }
+    stages.push_back(std::move(st));
+  } else {
+    for (std::size_t i = 0; i < stage_list.size(); ++i)
+      stages.push_back(parse_stage(*stage_list[i], "[[stages]] #" + std::to_string(i + 1), load_names));
+    std::set<std::string> seen;
+    for (const auto& st : stages)
+      if (!seen.insert(st.name).second)
+        throw Error(st.where,
+                    "[[stages]] name = \"" + st.name + "\" is used twice; stage names must be unique");
   }
+
+  // What a checkpoint must match: mesh size, domain layout, stage names.
+  std::ostringstream fp;
+  fp << "nodes " << model.mesh.nodes.size() << " cells " << model.mesh.cells.size();
+  for (const auto& dm : model.domains)
+    fp << " domain " << dm.name << ':' << dm.states.points() << 'x' << dm.states.stride();
+  fp << " stages";
+  for (const auto& st : stages) fp << ' ' << st.name;
+  fingerprint = fp.str();
+}
+
+stage::LoadSpec Analysis::Impl::parse_load(const toml::table& t, const std::string& where_ctx,
+                                           const std::string& default_name) {
+  const std::string type = require_string(t, "type", where_ctx);
+  const std::string ctx = where_ctx + " type = \"" + type + "\"";
+  stage::LoadSpec spec;
+  auto check_set = [&](const auto& sets, const Params& p, const char* key, const char* what) {
+    if (!sets.count(p.text(key)))
+      throw Error(p.where(key).known() ? p.where(key) : location(t),
+                  ctx + " " + key + " = \"" + p.text(key) + "\" is not " + what +
+                      " of the mesh; known: " + key_list(sets));
+  };
+  if (type == "pressure") {
+    Schema s;
+    s.text("name", {}, "name by which a later stage removes the load").defaults_to(default_name);
+    s.text("edges", {}, "edge set");
+    s.real("p", "kPa", "normal pressure at and above the surface, positive pushing into the body")
+        .defaults_to(0.0);
+    s.real("gamma", "kN/m3", "pressure gradient with depth below `surface` (fresh concrete: its unit weight)")
+        .at_least(0)
+        .defaults_to(0.0);
+    s.real("surface", "m", "level y where the depth-dependent part starts").defaults_to(0.0);
+    s.real("critical_depth", "m", "depth below which the pressure stops growing (bilinear envelope)")
+        .greater_than(0)
+        .defaults_to(std::numeric_limits<double>::infinity());
+    const auto p = check_table(t, s, ctx, {"type"});
+    check_set(model.mesh.edge_sets, p, "edges", "an edge set");
+    spec.kind = stage::LoadSpec::Kind::pressure;
+    spec.name = p.text("name"), spec.set = p.text("edges");
+    spec.p = p.real("p"), spec.gamma = p.real("gamma"), spec.surface = p.real("surface");
+    spec.critical_depth = p.real("critical_depth");
+  } else if (type == "load") {
+    Schema s;
+    s.text("name", {}, "name by which a later stage removes the load").defaults_to(std::string("head"));
+    s.text("edges", {}, "edge set carrying the load (e.g. the pile head)");
+    s.real("force", "kN", "total downward force at the end of the stage (axisymmetric: whole circle)");
+    const auto p = check_table(t, s, ctx, {"type"});
+    check_set(model.mesh.edge_sets, p, "edges", "an edge set");
+    spec.kind = stage::LoadSpec::Kind::pressure;
+    spec.name = p.text("name"), spec.set = p.text("edges");
+    spec.total_force = p.real("force");
+  } else if (type == "force") {
+    Schema s;
+    s.text("name", {}, "name by which a later stage removes the load").defaults_to(default_name);
+    s.text("nodes", {}, "node set");
+    s.real("fx", "kN", "force per node along x (axisymmetric: total over the circle)").defaults_to(0.0);
+    s.real("fy", "kN", "force per node along y (axisymmetric: total over the circle)").defaults_to(0.0);
+    const auto p = check_table(t, s, ctx, {"type"});
+    check_set(model.mesh.node_sets, p, "nodes", "a node set");
+    spec.kind = stage::LoadSpec::Kind::force;
+    spec.name = p.text("name"), spec.set = p.text("nodes");
+    spec.fx = p.real("fx"), spec.fy = p.real("fy");
+  } else if (type == "gravity") {
+    Schema s;
+    s.text("name", {}, "name by which a later stage removes the load").defaults_to(default_name);
+    s.text("cells", {}, "cell set (only its active cells are loaded)").defaults_to(std::string("all"));
+    s.real("gamma", "kN/m3", "unit weight, acting downwards (-y)").at_least(0);
+    const auto p = check_table(t, s, ctx, {"type"});
+    check_set(model.mesh.cell_sets, p, "cells", "a cell set");
+    spec.kind = stage::LoadSpec::Kind::gravity;
+    spec.name = p.text("name"), spec.set = p.text("cells");
+    spec.gamma = p.real("gamma");
+  } else {
+    throw Error(location(*t.get("type")), ctx + " is not allowed; allowed: one of: pressure, force, gravity" +
+                                              std::string(where_ctx == "[[loads]]" ? "" : ", load"));
+  }
+  if (where_ctx == "[[loads]]" && type == "load")
+    throw Error(location(*t.get("type")), ctx + " is only allowed as a stage action");
+  return spec;
+}
+
+stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string& ctx,
+                                         std::set<std::string>& load_names) {
+  using stage::Action;
+  Schema s;
+  s.text("name", {}, "stage name (checkpoints and output are named after it)");
+  s.integer("steps", "-", "equal load increments of the stage").at_least(1).defaults_to(1LL);
+  s.real_list("increments", "-", "load-factor increments summing to 1 (instead of steps)")
+      .defaults_to(std::vector<double>{});
+  s.integer("max_cutbacks", "-", "halvings of a failed step before the stage fails")
+      .at_least(0)
+      .at_most(30)
+      .defaults_to(static_cast<long long>(max_cutbacks));
+  s.boolean("until_failure", "a step failing after its cut-backs ends the run normally (loading to failure)")
+      .defaults_to(false);
+  s.real("stop_settlement", "m", "stop once the mean settlement of `monitor` exceeds this (0: never)")
+      .at_least(0)
+      .defaults_to(0.0);
+  s.text("monitor", {}, "edge or node set whose mean downward displacement is the settlement")
+      .defaults_to(std::string());
+  s.boolean("vtk", "write VTK output during this stage").defaults_to(vtk);
+  s.integer("every", "-", "write every n-th step").at_least(1).defaults_to(static_cast<long long>(every));
+  s.boolean("checkpoint", "write a checkpoint at the end of the stage").defaults_to(true);
+  const auto p = check_table(t, s, ctx, {"actions"});
+  stage::Stage st;
+  st.name = p.text("name");
+  st.where = location(t);
+  st.steps = static_cast<int>(p.integer("steps"));
+  st.increments = p.real_list("increments");
+  if (!st.increments.empty()) {
+    double sum = 0.0;
+    for (double v : st.increments) {
+      if (!(v > 0)) throw Error(p.where("increments"), ctx + " increments must all be > 0");
+      sum += v;
+    }
+    if (std::abs(sum - 1.0) > 1e-9)
+      throw Error(p.where("increments"),
+                  ctx + " increments sum to " + std::to_string(sum) + "; they must sum to 1");
+    if (t.get("steps")) throw Error(p.where("steps"), ctx + " give either steps or increments, not both");
+  }
+  st.max_cutbacks = static_cast<int>(p.integer("max_cutbacks"));
+  st.until_failure = p.flag("until_failure");
+  st.stop_settlement = p.real("stop_settlement");
+  st.monitor = p.text("monitor");
+  if (!st.monitor.empty() && !model.mesh.node_sets.count(st.monitor))
+    throw Error(p.where("monitor"),
+                ctx + " monitor = \"" + st.monitor +
+                    "\" is not a node or edge set of the mesh; known: " + key_list(model.mesh.node_sets));
+  st.vtk = p.flag("vtk");
+  st.every = static_cast<int>(p.integer("every"));
+  st.checkpoint = p.flag("checkpoint");
+
+  const auto actions = table_list(t, "actions");
+  for (std::size_t i = 0; i < actions.size(); ++i) {
+    const auto& at = *actions[i];
+    const std::string actx = ctx + " [[stages.actions]] #" + std::to_string(i + 1);
+    const std::string type = require_string(at, "type", actx);
+    Action a;
+    a.where = location(at);
+    auto cell_set = [&](const Params& q, const char* key) {
+      if (!model.mesh.cell_sets.count(q.text(key)))
+        throw Error(q.where(key).known() ? q.where(key) : a.where,
+                    actx + " " + key + " = \"" + q.text(key) +
+                        "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
+      return q.text(key);
+    };
+    if (type == "geostatic") {
+      Schema g;
+      g.text("cells", {}, "cells that receive the initial stress and their self-weight")
+          .defaults_to(std::string("all"));
+      g.real("gamma", "kN/m3", "unit weight").greater_than(0);
+      g.real("K0", "-", "earth pressure coefficient at rest, sigma_h = K0 sigma_v").greater_than(0);
+      g.real("surface", "m", "ground level y").defaults_to(0.0);
+      g.text("name", {}, "name of the self-weight load it adds").defaults_to(std::string("self_weight"));
+      const auto q = check_table(at, g, actx + " type = \"geostatic\"", {"type"});
+      a.kind = Action::Kind::geostatic;
+      a.cells = cell_set(q, "cells");
+      a.gamma = q.real("gamma"), a.K0 = q.real("K0"), a.surface = q.real("surface");
+      a.load.kind = stage::LoadSpec::Kind::gravity;
+      a.load.name = q.text("name"), a.load.set = a.cells, a.load.gamma = a.gamma;
+      if (!load_names.insert(a.load.name).second)
+        throw Error(a.where, actx + " adds a load named \"" + a.load.name + "\", which is already applied");
+      st.reset_after = true;
+    } else if (type == "deactivate" || type == "activate") {
+      Schema g;
+      g.text("cells", {}, "cell set");
+      if (type == "activate") {
+        g.text(
+             "stress", {"zero", "hydrostatic"},
+             "initial stress of the placed cells: none, or a fluid's -gamma (surface - y) in all directions")
+            .defaults_to(std::string("zero"));
+        g.real("gamma", "kN/m3", "unit weight of the fluid for stress = \"hydrostatic\"")
+            .at_least(0)
+            .defaults_to(0.0);
+        g.real("surface", "m", "fluid surface level y").defaults_to(0.0);
+      }
+      const auto q = check_table(at, g, actx + " type = \"" + type + "\"", {"type"});
+      a.kind = type == "activate" ? Action::Kind::activate : Action::Kind::deactivate;
+      a.cells = cell_set(q, "cells");
+      if (type == "activate") {
+        a.hydrostatic = q.text("stress") == "hydrostatic";
+        a.gamma = q.real("gamma"), a.surface = q.real("surface");
+      }
+    } else if (type == "remove") {
+      Schema g;
+      g.text("name", {}, "name of an applied load");
+      const auto q = check_table(at, g, actx + " type = \"remove\"", {"type"});
+      if (!load_names.erase(q.text("name"))) {
+        std::string known;
+        for (const auto& n : load_names) known += (known.empty() ? "" : ", ") + n;
+        throw Error(q.where("name"),
+                    actx + " name = \"" + q.text("name") +
+                        "\" is not an applied load; applied: " + (known.empty() ? "(none)" : known));
+      }
+      a.kind = Action::Kind::remove_load;
+      a.name = q.text("name");
+    } else if (type == "displacement") {
+      Schema g;
+      g.text("nodes", {}, "node set");
+      g.real("ux", "m", "x displacement increment over the stage").defaults_to(0.0);
+      g.real("uy", "m", "y displacement increment over the stage").defaults_to(0.0);
+      const auto q = check_table(at, g, actx + " type = \"displacement\"", {"type"});
+      if (!model.mesh.node_sets.count(q.text("nodes")))
+        throw Error(q.where("nodes"),
+                    actx + " nodes = \"" + q.text("nodes") +
+                        "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets));
+      if (!at.get("ux") && !at.get("uy"))
+        throw Error(a.where, actx + " prescribes nothing; give ux and/or uy");
+      a.kind = Action::Kind::displacement;
+      a.nodes = q.text("nodes");
+      if (at.get("ux")) a.ux = q.real("ux");
+      if (at.get("uy")) a.uy = q.real("uy");
+    } else if (type == "reset_displacements") {
+      (void)check_table(at, Schema{}, actx + " type = \"reset_displacements\"", {"type"});
+      a.kind = Action::Kind::reset_displacements;
+    } else if (type == "pressure" || type == "force" || type == "gravity" || type == "load") {
+      a.kind = Action::Kind::add_load;
+      a.load = parse_load(at, actx, type + "@" + st.name);
+      if (!load_names.insert(a.load.name).second)
+        throw Error(a.where, actx + " adds a load named \"" + a.load.name +
+                                 "\", which is already applied; remove it first or choose another name");
+    } else {
+      throw Error(
+          location(*at.get("type")),
+          actx + " type = \"" + type +
+              "\" is not allowed; allowed: one of: geostatic, deactivate, activate, pressure, load, force, "
+              "gravity, remove, displacement, reset_displacements");
+    }
+    st.actions.push_back(std::move(a));
+  }
+  return st;
 }
 
 void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
@@ -540,13 +766,16 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
       const auto d = static_cast<Eigen::Index>(2 * n + static_cast<std::size_t>(c));
       disp.values[3 * n + static_cast<std::size_t>(c)] = m.u[d];
       if (m.dofs.eq[static_cast<std::size_t>(d)] < 0)
-        reac.values[3 * n + static_cast<std::size_t>(c)] = m.reactions[d] - m.lambda * m.load_ref[d];
+        reac.values[3 * n + static_cast<std::size_t>(c)] =
+            m.reactions[d] - m.load_base[d] - m.lambda * m.load_ref[d];
     }
   out.point_fields = {std::move(disp), std::move(reac)};
   Field stress{"stress", 6, {}}, set_id{"set_id", 1, {}};
   Field ip_stress{"stress", 6, {}}, ip_strain{"strain", 6, {}};
   std::size_t total_points = 0;
-  for (const auto& dm : m.domains) total_points += dm.states.points();
+  for (const auto& dm : m.domains)
+    for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)
+      if (m.is_active(dm.cells[ci])) total_points += dm.first_point[ci + 1] - dm.first_point[ci];
   out.ip_coords.resize(static_cast<Eigen::Index>(ip_output ? total_points : 0), 2);
   Eigen::Index row = 0;
   std::vector<int> nodes;
@@ -555,6 +784,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   for (const auto& dm : m.domains)
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
       const int c = dm.cells[ci];
+      if (!m.is_active(c)) continue; // removed (bored) or not yet placed
       out.cells.push_back(c);
       m.cell_nodes(c, nodes, x);
       ElementData data{c, m.mesh.cells[c].shape(), &x};
@@ -615,58 +845,203 @@ Model& Analysis::model() { return impl_->model; }
 std::vector<std::string> Analysis::opened_libraries() const { return impl_->catalog->opened(); }
 std::string Analysis::title() const { return impl_->title; }
 
-RunSummary Analysis::run() {
-  Impl& s = *impl_;
-  Model& m = s.model;
-  RunSummary summary;
-  const Assembler assembler(m);
-  auto ls = make_linear_solver(s.linear_solver, m.symmetric(), m.dofs.free_count);
-  SparseMatrix k = assembler.make_matrix();
-  if (auto o = ls->analyze(k); !o.ok()) {
-    summary.outcome = o;
-    return summary;
+namespace {
+
+/// Mean downward displacement of a node set (m).
+double mean_settlement(const Model& m, const std::vector<int>& nodes) {
+  if (nodes.empty()) return 0.0;
+  double s = 0.0;
+  for (int n : nodes) s -= m.u[2 * n + 1];
+  return s / static_cast<double>(nodes.size());
+}
+
+/// Axial force N(y) (kN, compression positive) of the active cells of a set, from the stress
+/// sigma_yy at the integration points: for each cell, the points of one row (equal y) give the
+/// weighted mean of sigma_yy times the cell's cross-section area (axisymmetric: the ring). Exact
+/// for rectangular cells; rows at the same level from different cells are added.
+std::vector<std::array<double, 2>> axial_profile(const Model& m, const std::vector<int>& cells) {
+  std::map<long long, std::array<double, 2>> rows; // key: y in micrometres
+  std::vector<int> set(cells);
+  std::sort(set.begin(), set.end());
+  std::vector<int> nodes;
+  Eigen::MatrixX2d x, xp;
+  Eigen::VectorXd w;
+  for (const auto& dm : m.domains) {
+    if (!dm.law.material) continue;
+    for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
+      const int c = dm.cells[ci];
+      if (!m.is_active(c) || !std::binary_search(set.begin(), set.end(), c)) continue;
+      m.cell_nodes(c, nodes, x);
+      const ElementData data{c, m.mesh.cells[c].shape(), &x};
+      dm.element->point_coordinates(data, xp);
+      dm.element->point_weights(data, w);
+      const double r0 = x.col(0).minCoeff(), r1 = x.col(0).maxCoeff();
+      const double area =
+          m.formulation == Formulation::axisymmetric ? std::numbers::pi * (r1 * r1 - r0 * r0) : r1 - r0;
+      std::map<long long, std::array<double, 2>> local; // sum w sigma, sum w
+      for (Eigen::Index p = 0; p < xp.rows(); ++p) {
+        const auto key = std::llround(xp(p, 1) * 1e6);
+        const double sy =
+            dm.states.committed(dm.first_point[ci] + static_cast<std::size_t>(p)).stress()[voigt::yy];
+        local[key][0] += w[p] * sy;
+        local[key][1] += w[p];
+      }
+      for (const auto& [key, v] : local) {
+        rows[key][0] = static_cast<double>(key) * 1e-6;
+        rows[key][1] += -area * v[0] / v[1];
+      }
+    }
   }
+  std::vector<std::array<double, 2>> out;
+  for (auto it = rows.rbegin(); it != rows.rend(); ++it) out.push_back(it->second);
+  return out;
+}
+
+void write_text_atomically(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << text;
+    if (!out) throw Error("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, path);
+}
+
+} // namespace
+
+bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
+                               std::vector<std::array<double, 3>>& axial_rows) {
+  using stage::Action;
+  stage::Stage& st = stages[k];
+  Model& m = model;
+  m.prescribed = k == 0 ? initial_prescribed : Eigen::VectorXd::Zero(m.u.size());
+  m.prescribed_base = m.u;
+
+  // ---- actions, in order
+  const stage::LoadSpec* head = nullptr;
+  for (const Action& a : st.actions) {
+    switch (a.kind) {
+    case Action::Kind::geostatic:
+      stage::set_geostatic(m, m.mesh.cell_sets.at(a.cells), a.gamma, a.K0, a.surface);
+      loads.push_back(a.load);
+      break;
+    case Action::Kind::deactivate:
+      for (int c : m.mesh.cell_sets.at(a.cells)) m.active[static_cast<std::size_t>(c)] = 0;
+      break;
+    case Action::Kind::activate: {
+      const auto& cells = m.mesh.cell_sets.at(a.cells);
+      for (int c : cells) m.active[static_cast<std::size_t>(c)] = 1;
+      stage::set_placed_stress(m, cells, a.hydrostatic, a.gamma, a.surface);
+      break;
+    }
+    case Action::Kind::add_load:
+      loads.push_back(a.load);
+      if (std::isfinite(a.load.total_force)) head = &a.load;
+      break;
+    case Action::Kind::remove_load:
+      std::erase_if(loads, [&](const stage::LoadSpec& l) { return l.name == a.name; });
+      break;
+    case Action::Kind::displacement:
+      for (int n : m.mesh.node_sets.at(a.nodes)) {
+        if (std::isfinite(a.ux)) m.constrained[2 * n] = 1, m.prescribed[2 * n] = a.ux;
+        if (std::isfinite(a.uy)) m.constrained[2 * n + 1] = 1, m.prescribed[2 * n + 1] = a.uy;
+      }
+      break;
+    case Action::Kind::reset_displacements:
+      m.u.setZero();
+      m.prescribed_base.setZero();
+      break;
+    }
+  }
+
+  // ---- the stage's problem: equilibrium at its start, the target load at its end
+  m.rebuild_dofs();
+  const Assembler assembler(m);
+  auto ls = make_linear_solver(linear_solver, m.symmetric(), m.dofs.free_count);
+  {
+    SparseMatrix kpat = assembler.make_matrix();
+    if (auto o = ls->analyze(kpat); !o.ok()) {
+      summary.outcome = Outcome::failure(o.status, "stage \"" + st.name + "\": " + o.message);
+      return false;
+    }
+  }
+  Eigen::VectorXd f0;
+  if (auto o = assembler.assemble(m, m.u, f0, nullptr); !o.ok()) {
+    for (auto& dm : m.domains) dm.states.revert();
+    summary.outcome = Outcome::failure(o.status, "stage \"" + st.name + "\", initial state: " + o.message);
+    return false;
+  }
+  for (auto& dm : m.domains) dm.states.revert();
+  Eigen::VectorXd target = Eigen::VectorXd::Zero(m.u.size());
+  for (const auto& l : loads) stage::add_load(m, l, target);
+  // Free DOFs: the stage starts in equilibrium with the forces the active cells carry and moves
+  // linearly to the target load (this releases the forces of removed cells over the steps).
+  // Fixed DOFs carry the target load, so that reactions are final forces.
+  m.load_base = f0;
+  m.load_ref = target - f0;
+  for (int d = 0; d < m.dofs.total(); ++d)
+    if (m.dofs.eq[static_cast<std::size_t>(d)] < 0) m.load_base[d] = target[d], m.load_ref[d] = 0.0;
+  m.lambda = 0.0;
   StaticProblem problem(m, assembler, *ls);
 
-  std::unique_ptr<VtkSeriesWriter> writer;
-  if (s.options.write_output && s.vtk) {
-    summary.out_dir = s.options.out_dir.empty() ? (fs::path("results") / fs::path(s.path).stem()).string()
-                                                : s.options.out_dir;
-    writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string());
-    s.write_step(*writer, 0.0);
-  }
+  const std::vector<int>* monitor = nullptr;
+  if (!st.monitor.empty())
+    monitor = &m.mesh.node_sets.at(st.monitor);
+  else if (head)
+    monitor = &m.mesh.node_sets.at(head->set);
+  const double force = head ? head->total_force : 0.0;
+  const std::vector<int>* pile = pile_cells.empty() ? nullptr : &m.mesh.cell_sets.at(pile_cells);
+  auto record = [&] {
+    if (!head) return;
+    summary.load_settlement.push_back(
+        {m.lambda * force, 1e3 * mean_settlement(m, m.mesh.node_sets.at(head->set))});
+    if (pile)
+      for (const auto& [y, n] : axial_profile(m, *pile)) axial_rows.push_back({m.lambda * force, y, n});
+  };
+  if (head && summary.load_settlement.empty()) record();
 
+  // ---- load steps
+  std::vector<double> goals;
+  if (st.increments.empty())
+    for (int i = 1; i <= st.steps; ++i) goals.push_back(static_cast<double>(i) / st.steps);
+  else {
+    double acc = 0.0;
+    for (double v : st.increments) goals.push_back(acc += v);
+  }
+  goals.back() = 1.0;
   Eigen::VectorXd u = m.restrict_free(m.u);
-  // Prescribed displacements jump at the start of a step; without a predictor the first
-  // iterate puts the whole jump into the cells next to the prescribed nodes.
   const bool displacement_driven = m.prescribed.size() > 0 && m.prescribed.cwiseAbs().maxCoeff() > 0.0;
-  const double nominal = 1.0 / s.steps;
-  double dl = nominal;
+  std::size_t next = 0;
   int cut_level = 0;
+  double dl_cap = std::numeric_limits<double>::infinity();
   int step = 0;
-  while (m.lambda < 1.0 - 1e-12) {
+  while (next < goals.size()) {
     StepRequest req;
     req.lambda_n = m.lambda;
-    req.lambda = std::min(1.0, m.lambda + dl);
-    if (1.0 - req.lambda < 1e-12) req.lambda = 1.0;
-    req.convergence = s.convergence;
+    req.lambda = std::min(goals[next], m.lambda + dl_cap);
+    if (goals[next] - req.lambda < 1e-12) req.lambda = goals[next];
+    req.convergence = convergence;
     Eigen::VectorXd trial = u;
     if (displacement_driven) predict(problem, *ls, req.lambda_n, req.lambda, trial);
-    StepReport rep = s.solver->solve(problem, req, trial);
+    StepReport rep = solver->solve(problem, req, trial);
     if (!rep.outcome.ok()) {
       for (auto& dm : m.domains) dm.states.revert();
       summary.reports.push_back(rep);
-      if (cut_level >= s.max_cutbacks) {
+      if (cut_level >= st.max_cutbacks) {
+        if (st.until_failure) {
+          summary.stop_reason = "failure";
+          return false;
+        }
         std::ostringstream msg;
-        msg << "step from load factor " << req.lambda_n << " to " << req.lambda
+        msg << "stage \"" << st.name << "\": step from load factor " << req.lambda_n << " to " << req.lambda
             << " failed: " << rep.outcome.message << " (gave up after " << cut_level << " cut-backs)";
         summary.outcome = Outcome::failure(rep.outcome.status, msg.str());
-        summary.steps_done = step;
-        return summary;
+        return false;
       }
       ++cut_level;
       ++summary.cutbacks;
-      dl *= 0.5;
+      dl_cap = 0.5 * (req.lambda - req.lambda_n);
       continue;
     }
     for (auto& dm : m.domains) dm.states.commit();
@@ -675,17 +1050,108 @@ RunSummary Analysis::run() {
     m.expand(u, m.lambda, m.u);
     m.reactions = problem.internal_force();
     ++step;
+    ++summary.steps_done;
     summary.reports.push_back(rep);
-    if (s.options.on_step) s.options.on_step(step, s.steps, m.lambda, rep);
-    const bool last = m.lambda >= 1.0 - 1e-12;
-    if (writer && (step % s.every == 0 || last)) s.write_step(*writer, m.lambda);
+    if (m.lambda >= goals[next] - 1e-12) ++next;
     if (cut_level > 0) {
-      dl = std::min(nominal, 2 * dl);
-      if (dl >= nominal) cut_level = 0;
+      dl_cap *= 2;
+      const double nominal = next < goals.size() ? goals[next] - (next ? goals[next - 1] : 0.0) : 1.0;
+      if (dl_cap >= nominal) cut_level = 0, dl_cap = std::numeric_limits<double>::infinity();
+    }
+    time = static_cast<double>(k) + m.lambda;
+    if (options.on_step) options.on_step(step, static_cast<int>(goals.size()), m.lambda, rep);
+    const bool last = next >= goals.size();
+    if (writer && st.vtk && (step % st.every == 0 || last)) write_step(*writer, time);
+    record();
+    if (st.stop_settlement > 0 && monitor && mean_settlement(m, *monitor) > st.stop_settlement) {
+      summary.stop_reason = "settlement";
+      if (writer && st.vtk && !last) write_step(*writer, time);
+      return false;
     }
   }
-  summary.steps_done = step;
+  if (st.reset_after) {
+    m.u.setZero();
+    if (writer && st.vtk) write_step(*writer, time);
+  }
+  return true;
+}
+
+RunSummary Analysis::run() {
+  Impl& s = *impl_;
+  Model& m = s.model;
+  RunSummary summary;
+  summary.out_dir =
+      s.options.out_dir.empty() ? (fs::path("out") / fs::path(s.path).stem()).string() : s.options.out_dir;
+  std::size_t first = 0;
+  if (!s.options.restart_from.empty()) {
+    const std::string& path = s.options.restart_from;
+    Checkpoint c = read_checkpoint(path);
+    if (c.fingerprint != s.fingerprint)
+      throw Error(path + ": the checkpoint belongs to another scene (it has \"" + c.fingerprint +
+                  "\", this scene has \"" + s.fingerprint + "\")");
+    if (c.states.size() != m.domains.size() || c.u.size() != static_cast<std::size_t>(m.u.size()))
+      throw Error(path + ": the checkpoint does not match the scene's model size");
+    m.u = Eigen::Map<const Eigen::VectorXd>(c.u.data(), static_cast<Eigen::Index>(c.u.size()));
+    m.reactions =
+        Eigen::Map<const Eigen::VectorXd>(c.reactions.data(), static_cast<Eigen::Index>(c.reactions.size()));
+    m.active = c.active;
+    m.constrained = c.constrained;
+    s.loads = c.loads;
+    for (std::size_t d = 0; d < m.domains.size(); ++d) m.domains[d].states.restore(c.states[d]);
+    s.time = c.time;
+    first = static_cast<std::size_t>(c.stages_done);
+    summary.stages_done = c.stages_done;
+  }
+
+  std::unique_ptr<VtkSeriesWriter> writer;
+  if (s.options.write_output && s.vtk) {
+    writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string());
+    s.write_step(*writer, s.time);
+  }
+  std::vector<std::array<double, 3>> axial_rows;
+  for (std::size_t k = first; k < s.stages.size(); ++k) {
+    const bool go_on = s.run_stage(k, summary, writer.get(), axial_rows);
+    if (!summary.outcome.ok()) break;
+    summary.stages_done = static_cast<int>(k + 1);
+    if (s.stages[k].checkpoint && s.options.write_output && go_on) {
+      Checkpoint c;
+      c.fingerprint = s.fingerprint;
+      c.stages_done = static_cast<int>(k + 1);
+      c.stage_name = s.stages[k].name;
+      c.u.assign(m.u.data(), m.u.data() + m.u.size());
+      c.reactions.assign(m.reactions.data(), m.reactions.data() + m.reactions.size());
+      c.active = m.active;
+      c.constrained = m.constrained;
+      c.loads = s.loads;
+      for (const auto& dm : m.domains) c.states.push_back(dm.states.committed_data());
+      c.time = s.time;
+      const auto path = (fs::path(summary.out_dir) / "checkpoints" /
+                         (std::to_string(k + 1) + "_" + s.stages[k].name + ".ckpt"))
+                            .string();
+      write_checkpoint(path, c);
+      summary.checkpoints.push_back(path);
+    }
+    if (!go_on) {
+      if (!summary.stop_reason.empty()) summary.stages_done = static_cast<int>(k); // ended early
+      break;
+    }
+  }
   if (writer) summary.pvd = writer->pvd_path();
+  if (s.options.write_output && !summary.load_settlement.empty()) {
+    std::ostringstream ls, af;
+    ls << std::setprecision(10) << "load_kN,settlement_mm\n";
+    for (const auto& r : summary.load_settlement) ls << r[0] << ',' << r[1] << '\n';
+    write_text_atomically(fs::path(summary.out_dir) / "curves" / "load_settlement.csv", ls.str());
+    if (!axial_rows.empty()) {
+      af << std::setprecision(10) << "load_kN,depth_m,axial_force_kN\n";
+      double top = -std::numeric_limits<double>::infinity();
+      for (int c : m.mesh.cell_sets.at(s.pile_cells))
+        for (int n : m.mesh.cells[static_cast<std::size_t>(c)].nodes)
+          if (n >= 0) top = std::max(top, m.mesh.nodes[static_cast<std::size_t>(n)].y());
+      for (const auto& r : axial_rows) af << r[0] << ',' << top - r[1] << ',' << r[2] << '\n';
+      write_text_atomically(fs::path(summary.out_dir) / "curves" / "axial_force.csv", af.str());
+    }
+  }
   return summary;
 }
 

@@ -33,7 +33,7 @@ void Model::expand(const Eigen::VectorXd& free, double lam, Eigen::VectorXd& ful
   full.resize(dofs.total());
   for (int d = 0; d < dofs.total(); ++d) {
     const int e = dofs.eq[d];
-    full[d] = e >= 0 ? free[e] : lam * prescribed[d];
+    full[d] = e >= 0 ? free[e] : prescribed_base[d] + lam * prescribed[d];
   }
 }
 
@@ -42,6 +42,20 @@ Eigen::VectorXd Model::restrict_free(const Eigen::VectorXd& full) const {
   for (int d = 0; d < dofs.total(); ++d)
     if (dofs.eq[d] >= 0) v[dofs.eq[d]] = full[d];
   return v;
+}
+
+void Model::rebuild_dofs() {
+  std::vector<char> fixed(constrained);
+  fixed.resize(mesh.nodes.size() * DofMap::per_node, 0);
+  std::vector<char> used(mesh.nodes.size(), 0);
+  for (const auto& dm : domains)
+    for (int c : dm.cells)
+      if (is_active(c))
+        for (int n : mesh.cells[c].nodes)
+          if (n >= 0) used[n] = 1;
+  for (std::size_t n = 0; n < used.size(); ++n)
+    if (!used[n]) fixed[2 * n] = fixed[2 * n + 1] = 1;
+  dofs.build(fixed);
 }
 
 bool Model::symmetric() const {
@@ -60,6 +74,7 @@ Assembler::Assembler(const Model& model) {
   std::vector<int> nodes;
   for (const auto& dm : model.domains)
     for (int c : dm.cells) {
+      if (!model.is_active(c)) continue;
       nodes.clear();
       for (int n : model.mesh.cells[c].nodes)
         if (n >= 0) nodes.push_back(n);
@@ -115,8 +130,9 @@ Assembler::Assembler(const Model& model) {
       const int n = model.mesh.cells[dm.cells[ci]].count() * DofMap::per_node;
       st[ci + 1] = st[ci] + static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
     }
-    sc.resize(st.back());
+    sc.assign(st.back(), -1);
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
+      if (!model.is_active(dm.cells[ci])) continue;
       ldof.clear();
       for (int node : model.mesh.cells[dm.cells[ci]].nodes)
         if (node >= 0)
@@ -159,6 +175,11 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
     const auto& st = scatter_start_[di];
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
       const int cell = dm.cells[ci];
+      if (!model.is_active(cell)) {
+        // Inactive cells keep their committed state through the commit swap.
+        dm.states.hold(dm.first_point[ci], dm.first_point[ci + 1]);
+        continue;
+      }
       model.cell_nodes(cell, nodes, x);
       const auto nd = static_cast<Eigen::Index>(nodes.size() * DofMap::per_node);
       ue.resize(nd);

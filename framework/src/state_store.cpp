@@ -1,6 +1,7 @@
 #include "stratum/state_store.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace stratum {
 
@@ -15,5 +16,19 @@ void StateStore::commit() {
 }
 
 void StateStore::revert() { std::copy(committed_.begin(), committed_.end(), trial_.begin()); }
+
+void StateStore::hold(std::size_t first, std::size_t last) {
+  const auto s = static_cast<std::size_t>(stride());
+  std::copy(committed_.begin() + static_cast<std::ptrdiff_t>(first * s),
+            committed_.begin() + static_cast<std::ptrdiff_t>(last * s),
+            trial_.begin() + static_cast<std::ptrdiff_t>(first * s));
+}
+
+void StateStore::restore(const std::vector<double>& committed) {
+  if (committed.size() != committed_.size())
+    throw std::invalid_argument("StateStore::restore: size mismatch");
+  committed_ = committed;
+  trial_ = committed;
+}
 
 } // namespace stratum

@@ -10,6 +10,7 @@
 #include "stratum/registry.hpp"
 #include "stratum/solver.hpp"
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -18,7 +19,8 @@
 namespace stratum {
 
 struct RunOptions {
-  std::string out_dir;                  ///< empty: results/<scene stem> under the working directory
+  std::string out_dir;                  ///< empty: out/<scene stem> under the working directory
+  std::string restart_from;             ///< a checkpoint to continue from (its later stages run)
   std::vector<std::string> plugin_dirs; ///< empty: PluginCatalog::default_directories()
   bool write_output = true;             ///< false: solve only (tests, benchmarks)
   /// Called after every accepted step (progress line, verbose diagnostics); may be empty.
@@ -32,6 +34,12 @@ struct RunSummary {
   std::vector<StepReport> reports;
   std::string pvd; ///< the .pvd collection written ("" when no output)
   std::string out_dir;
+  int stages_done = 0;          ///< stages completed (counting those before a restart)
+  std::string stop_reason;      ///< why a stage ended early: "failure" (until_failure) or "settlement"
+  std::vector<std::string> checkpoints; ///< written, in order
+  /// Head load (kN) and settlement (mm) per converged level of the loaded stage(s) with a `load`
+  /// action (starting at 0, 0), when [output] pile_head names the head edges.
+  std::vector<std::array<double, 2>> load_settlement;
 };
 
 class Analysis {

@@ -43,11 +43,21 @@ struct Model {
   Mesh mesh;
   std::vector<Domain> domains;
   DofMap dofs;
-  Eigen::VectorXd load_ref;   ///< full-size external load at load factor 1 (kN)
-  Eigen::VectorXd prescribed; ///< full-size prescribed displacement at load factor 1 (m)
-  Eigen::VectorXd u;          ///< full-size committed displacement (m)
-  Eigen::VectorXd reactions;  ///< full-size internal force at the last converged state (kN)
-  double lambda = 0.0;        ///< committed load factor
+  /// External load of the current stage: load_base + lambda * load_ref (full size, kN).
+  Eigen::VectorXd load_base;
+  Eigen::VectorXd load_ref;
+  /// Prescribed displacement of the current stage: prescribed_base + lambda * prescribed (m).
+  Eigen::VectorXd prescribed_base;
+  Eigen::VectorXd prescribed;
+  Eigen::VectorXd u;         ///< full-size committed displacement (m)
+  Eigen::VectorXd reactions; ///< full-size internal force at the last converged state (kN)
+  double lambda = 0.0;       ///< committed load factor within the current stage
+  std::vector<char> active;      ///< per cell: 1 when the cell takes part (stages deactivate cells)
+  std::vector<char> constrained; ///< per DOF: 1 when a constraint holds it
+
+  /// Rebuilds the DOF map: constrained DOFs and the DOFs of nodes no active cell uses are fixed.
+  void rebuild_dofs();
+  [[nodiscard]] bool is_active(int cell) const { return active.empty() || active[cell] != 0; }
 
   /// Present nodes of a cell in slot order, and their coordinates.
   void cell_nodes(int cell, std::vector<int>& nodes, Eigen::MatrixX2d& x) const;

@@ -59,6 +59,11 @@ public:
   void commit();
   /// The trial state is thrown away (it is reset to the committed state).
   void revert();
+  /// Trial = committed for points [first, last) (points that are not evaluated, e.g. of
+  /// inactive cells, so that commit() keeps their state).
+  void hold(std::size_t first, std::size_t last);
+  /// Replaces the committed and trial states (restart); `committed` must have the store's size.
+  void restore(const std::vector<double>& committed);
 
   [[nodiscard]] const std::vector<double>& committed_data() const { return committed_; }
   [[nodiscard]] const std::vector<double>& trial_data() const { return trial_; }

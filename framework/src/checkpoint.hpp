@@ -1,0 +1,36 @@
+// Checkpoints written at the end of every stage and read by `stratum run --restart-from`.
+//
+// File layout: a text header line "STRATUM-CHECKPOINT <format> <crc32 hex> <payload bytes>\n"
+// followed by a Boost.Serialization binary archive (the payload). The CRC-32 covers the
+// payload; the scene fingerprint inside it must match the scene being restarted.
+#pragma once
+
+#include "stage.hpp"
+
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+struct Checkpoint {
+  static constexpr int format = 1;
+  std::string fingerprint; ///< mesh, domains and stage list of the scene that wrote it
+  int stages_done = 0;     ///< stages completed (the restart runs stage stages_done + 1 on)
+  std::string stage_name;  ///< name of the last completed stage
+  std::vector<double> u, reactions;
+  std::vector<char> active, constrained;
+  std::vector<stage::LoadSpec> loads;
+  std::vector<std::vector<double>> states; ///< committed state store of every domain
+  double time = 0.0;                       ///< output time reached
+
+  template <class Ar> void serialize(Ar& ar, unsigned /*version*/) {
+    ar& fingerprint& stages_done& stage_name& u& reactions& active& constrained& loads& states& time;
+  }
+};
+
+/// Writes atomically (temporary file, then rename). Throws Error when the file cannot be written.
+void write_checkpoint(const std::string& path, const Checkpoint& c);
+/// Reads and verifies header, size and checksum. Throws Error naming the file and the defect.
+Checkpoint read_checkpoint(const std::string& path);
+
+} // namespace stratum

@@ -1,0 +1,167 @@
+#include "stage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <set>
+
+namespace stratum::stage {
+
+namespace {
+
+/// Consistent nodal forces of a normal pressure p(x) (kPa, pushing into the body) on edges.
+void add_pressure_field(const Mesh& mesh, const std::vector<Edge>& edges,
+                        const std::function<double(const Eigen::Vector2d&)>& p, Formulation f,
+                        Eigen::VectorXd& out) {
+  constexpr double g[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
+  constexpr double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+  for (const Edge& e : edges) {
+    const int ids[3] = {e.a, e.b, e.mid};
+    const int n = e.mid >= 0 ? 3 : 2;
+    for (int q = 0; q < 4; ++q) {
+      const double s = g[q];
+      double N[3], dN[3];
+      if (n == 2) {
+        N[0] = 0.5 * (1 - s), N[1] = 0.5 * (1 + s);
+        dN[0] = -0.5, dN[1] = 0.5;
+      } else {
+        N[0] = 0.5 * s * (s - 1), N[1] = 0.5 * s * (s + 1), N[2] = 1 - s * s;
+        dN[0] = s - 0.5, dN[1] = s + 0.5, dN[2] = -2 * s;
+      }
+      Eigen::Vector2d xq = Eigen::Vector2d::Zero(), t = Eigen::Vector2d::Zero();
+      for (int a = 0; a < n; ++a) {
+        xq += N[a] * mesh.nodes[ids[a]];
+        t += dN[a] * mesh.nodes[ids[a]];
+      }
+      const Eigen::Vector2d nds(t.y(), -t.x()); // outward normal times the line Jacobian
+      const double weight = w[q] * (f == Formulation::axisymmetric ? 2 * std::numbers::pi * xq.x() : 1.0);
+      const double pq = p(xq);
+      for (int a = 0; a < n; ++a) {
+        out[ids[a] * 2 + 0] += -pq * N[a] * nds.x() * weight;
+        out[ids[a] * 2 + 1] += -pq * N[a] * nds.y() * weight;
+      }
+    }
+  }
+}
+
+/// (domain, index within the domain) of every cell; (-1, -1) when no domain owns it.
+std::vector<std::pair<int, int>> cell_owners(const Model& m) {
+  std::vector<std::pair<int, int>> owner(m.mesh.cells.size(), {-1, -1});
+  for (std::size_t d = 0; d < m.domains.size(); ++d)
+    for (std::size_t i = 0; i < m.domains[d].cells.size(); ++i)
+      owner[static_cast<std::size_t>(m.domains[d].cells[i])] = {static_cast<int>(d), static_cast<int>(i)};
+  return owner;
+}
+
+/// Calls fn(slot, x) for every integration point of the given cells that have a material.
+template <class Fn> void for_points(Model& m, const std::vector<int>& cells, Fn&& fn) {
+  const auto owner = cell_owners(m);
+  std::vector<int> nodes;
+  Eigen::MatrixX2d x, xp;
+  for (int c : cells) {
+    const auto [d, i] = owner[static_cast<std::size_t>(c)];
+    if (d < 0) continue;
+    auto& dm = m.domains[static_cast<std::size_t>(d)];
+    if (!dm.law.material) continue;
+    m.cell_nodes(c, nodes, x);
+    dm.element->point_coordinates(ElementData{c, m.mesh.cells[c].shape(), &x}, xp);
+    for (std::size_t p = dm.first_point[static_cast<std::size_t>(i)];
+         p < dm.first_point[static_cast<std::size_t>(i) + 1]; ++p) {
+      auto slot = dm.states.committed_for_init(p);
+      fn(dm, slot,
+         Eigen::Vector2d(xp.row(static_cast<Eigen::Index>(p - dm.first_point[static_cast<std::size_t>(i)]))));
+    }
+    dm.states.hold(dm.first_point[static_cast<std::size_t>(i)],
+                   dm.first_point[static_cast<std::size_t>(i) + 1]);
+  }
+}
+
+} // namespace
+
+double projected_area(const Model& model, const std::vector<Edge>& edges) {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.mesh.nodes.size() * 2));
+  add_pressure_field(
+      model.mesh, edges, [](const Eigen::Vector2d&) { return 1.0; }, model.formulation, f);
+  double fy = 0.0;
+  for (Eigen::Index i = 1; i < f.size(); i += 2) fy += f[i];
+  return std::abs(fy);
+}
+
+void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f) {
+  switch (spec.kind) {
+  case LoadSpec::Kind::pressure: {
+    const auto& edges = model.mesh.edge_sets.at(spec.set);
+    if (std::isfinite(spec.total_force)) {
+      const double area = projected_area(model, edges);
+      const double p = area > 0 ? spec.total_force / area : 0.0;
+      add_pressure_field(
+          model.mesh, edges, [p](const Eigen::Vector2d&) { return p; }, model.formulation, f);
+    } else {
+      const LoadSpec s = spec;
+      add_pressure_field(
+          model.mesh, edges,
+          [&s](const Eigen::Vector2d& x) {
+            return s.p + s.gamma * std::min(std::max(s.surface - x.y(), 0.0), s.critical_depth);
+          },
+          model.formulation, f);
+    }
+    break;
+  }
+  case LoadSpec::Kind::force:
+    for (int n : model.mesh.node_sets.at(spec.set)) {
+      f[2 * n] += spec.fx;
+      f[2 * n + 1] += spec.fy;
+    }
+    break;
+  case LoadSpec::Kind::gravity: {
+    const auto& set = model.mesh.cell_sets.at(spec.set);
+    const std::set<int> in_set(set.begin(), set.end());
+    const Vec2 b(0.0, -spec.gamma);
+    std::vector<int> nodes;
+    Eigen::MatrixX2d x;
+    Eigen::VectorXd fe;
+    for (const auto& dm : model.domains)
+      for (int c : dm.cells) {
+        if (!model.is_active(c) || !in_set.count(c)) continue;
+        model.cell_nodes(c, nodes, x);
+        dm.element->body_force(ElementData{c, model.mesh.cells[c].shape(), &x}, b, fe);
+        for (std::size_t a = 0; a < nodes.size(); ++a)
+          for (int k = 0; k < 2; ++k) f[2 * nodes[a] + k] += fe[static_cast<Eigen::Index>(2 * a) + k];
+      }
+    break;
+  }
+  }
+}
+
+void set_geostatic(Model& model, const std::vector<int>& cells, double gamma, double K0, double surface) {
+  std::vector<int> active;
+  for (int c : cells)
+    if (model.is_active(c)) active.push_back(c);
+  for_points(model, active, [&](const Domain& dm, PointSlot<double>& slot, const Eigen::Vector2d& x) {
+    const double sv = -gamma * std::max(surface - x.y(), 0.0);
+    Vec6 s = Vec6::Zero();
+    s[voigt::xx] = K0 * sv;
+    s[voigt::yy] = sv;
+    s[voigt::zz] = K0 * sv;
+    slot.stress() = s;
+    slot.strain().setZero();
+    dm.law.material->init_history(s, slot.history());
+  });
+}
+
+void set_placed_stress(Model& model, const std::vector<int>& cells, bool hydrostatic, double gamma,
+                       double surface) {
+  for_points(model, cells, [&](const Domain& dm, PointSlot<double>& slot, const Eigen::Vector2d& x) {
+    Vec6 s = Vec6::Zero();
+    if (hydrostatic) {
+      const double p = gamma * std::max(surface - x.y(), 0.0);
+      s[voigt::xx] = s[voigt::yy] = s[voigt::zz] = -p;
+    }
+    slot.stress() = s;
+    slot.strain().setZero();
+    dm.law.material->init_history(s, slot.history());
+  });
+}
+
+} // namespace stratum::stage
