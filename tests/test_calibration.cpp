@@ -295,7 +295,7 @@ TEST_CASE("fit: curves that cannot be fitted give one clear message", "[fit]") {
   }
   e = fit_text("jump.csv", jump);
   INFO(e);
-  CHECK_THAT(e, Contains("> 1: the peak q lie above the hyperbolas' asymptotes; allowed: 0 < R_f <= 1"));
+  CHECK_THAT(e, Contains("> 1: the peaks of q lie above the hyperbolas' asymptotes; allowed: 0 < R_f <= 1"));
   // no volumetric information for the Poisson parameters
   std::string nov = "sigma3_kPa,eps_axial,q_kPa\n";
   for (double s3 : {50.0, 100.0}) {

@@ -408,7 +408,7 @@ HypResult fit_hyperbolic(const HypLaw& law, const std::vector<HypCurve>& curves,
   // --- physical limits
   if (res.R_f > 1 + 1e-9)
     throw Error(
-        source + ": R_f = " + fmt(res.R_f) + " > 1: the peak " + law.y_name +
+        source + ": R_f = " + fmt(res.R_f) + " > 1: the peaks of " + law.y_name +
         " lie above the hyperbolas' asymptotes; allowed: 0 < R_f <= 1 (the curves are not hyperbolic)");
   if (res.n < 0)
     throw Error(source + ": n = " + fmt(res.n) + " < 0: the initial stiffness falls as " + law.s_name +
