@@ -262,18 +262,23 @@ CurveResidual residual_of(const std::string& what, double level, const std::vect
   return c;
 }
 
-/// Index of the peak of y: the end of the leading non-decreasing run. Throws if a later
-/// point rises above it (more than one peak).
+/// Index of the peak of y: its (first) largest value. Before it, y may dip below its running
+/// maximum by at most 5 % of the peak (scatter); a deeper dip means more than one loading
+/// branch or peak, and throws.
 std::size_t peak_index(const std::vector<double>& y, const std::vector<int>& lines, const std::string& file,
                        const std::string& name, const std::string& level) {
-  std::size_t k = 0;
-  while (k + 1 < y.size() && y[k + 1] >= y[k]) ++k;
-  for (std::size_t j = k + 1; j < y.size(); ++j)
-    if (y[j] > y[k])
-      throw Error({file, lines[j], 0}, name + " = " + fmt(y[j]) + " rises again above the peak " + fmt(y[k]) +
-                                           " of line " + std::to_string(lines[k]) + " (" + level +
-                                           "); allowed: " + name +
-                                           " increasing to a single peak, then optionally softening");
+  const std::size_t k = static_cast<std::size_t>(std::max_element(y.begin(), y.end()) - y.begin());
+  std::size_t top = 0;
+  for (std::size_t j = 1; j < k; ++j) {
+    if (y[j] < y[top] - 0.05 * y[k])
+      throw Error({file, lines[j], 0}, name + " = " + fmt(y[j]) + " falls below the earlier " + fmt(y[top]) +
+                                           " (line " + std::to_string(lines[top]) +
+                                           ") by more than 5 % of the peak " + fmt(y[k]) + " of line " +
+                                           std::to_string(lines[k]) + " (" + level + "); allowed: " + name +
+                                           " rising to a single peak (dips up to 5 % of it), then optionally "
+                                           "softening");
+    if (y[j] > y[top]) top = j;
+  }
   return k;
 }
 
@@ -660,7 +665,7 @@ DuncanChangFit fit_duncan_chang(const std::vector<TriaxialCurve>& curves, Duncan
       std::vector<double> dd;
       for (std::size_t j = 0; j < lc[i].e1.size(); ++j)
         dd.push_back(nu * lc[i].e1[j] / (1 - out.d * lc[i].e1[j]) - lc[i].lat[j]);
-      out.residuals.push_back(residual_of("-eps_3", curves[i].sigma3, dd, "-"));
+      out.residuals.push_back(residual_of("-eps_3", curves[i].sigma3, dd, ""));
     }
   } else {
     // Duncan et al. (1980): B = q / (3 eps_v) at 70 % of the strength, or where eps_v
@@ -879,15 +884,26 @@ std::string comments(const std::vector<CurveResidual>& rs, const std::vector<std
   std::ostringstream o;
   o << "# residuals (model - data) per curve:\n";
   for (const auto& r : rs) {
+    const std::string u = r.unit.empty() ? "" : " " + r.unit;
     o << "#   " << r.what << " at " << fmt(r.level) << " kPa: ";
     if (r.points == 1)
-      o << "|difference| " << fmt(r.max) << " " << r.unit;
+      o << "|difference| " << fmt(r.max) << u;
     else
-      o << r.points << " points, RMS " << fmt(r.rms) << " " << r.unit << ", max " << fmt(r.max) << " "
-        << r.unit;
+      o << r.points << " points, RMS " << fmt(r.rms) << u << ", max " << fmt(r.max) << u;
     o << "\n";
   }
-  for (const auto& n : notes) o << "# note: " << n << "\n";
+  for (const auto& n : notes) { // wrapped at about 100 characters
+    std::string line = "# note:";
+    std::istringstream words(n);
+    for (std::string w; words >> w;) {
+      if (line.size() + 1 + w.size() > 100) {
+        o << line << "\n";
+        line = "#  ";
+      }
+      line += " " + w;
+    }
+    o << line << "\n";
+  }
   return o.str();
 }
 
