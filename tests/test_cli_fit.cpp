@@ -131,6 +131,38 @@ TEST_CASE("cli fit: the example curves give back their parameters", "[fit][cli]"
                         {"p_a", 100}});
 }
 
+TEST_CASE("cli fit: several files and --range: the loess' two parameter sets", "[fit][cli]") {
+  const std::string both =
+      " inputs/calibration/triaxial_loess_low.csv inputs/calibration/triaxial_loess_high.csv";
+  auto r = stratum("fit duncan_chang --range 0:100" + both);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  expect_params(r.out,
+                {{"K", 500},
+                 {"n", 0.82},
+                 {"R_f", 0.8},
+                 {"phi", 26},
+                 {"c", 10},
+                 {"G", 0.18},
+                 {"F", 0.22},
+                 {"d", 20},
+                 {"p_a", 100}},
+                {{"form", "E_nu"}});
+  r = stratum("fit duncan_chang --form E_B --range 200:400" + both);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  expect_params(
+      r.out,
+      {{"K", 70}, {"n", 0.82}, {"R_f", 0.8}, {"phi", 20}, {"c", 40}, {"K_b", 45}, {"m", 0.35}, {"p_a", 100}},
+      {{"form", "E_B"}});
+  // both sets at once: the stiffer low-stress curves make E_i fall with sigma_3
+  expect_one_line_error(stratum("fit duncan_chang --form E_B" + both),
+                        "inputs/calibration/triaxial_loess_low.csv, ",
+                        "< 0: the initial stiffness falls as sigma_3 grows; allowed: n >= 0");
+  expect_one_line_error(stratum("fit duncan_chang --range 500:600" + both), "inputs/calibration/",
+                        "no curve has its sigma_3 in --range 500:600 kPa");
+}
+
 TEST_CASE("cli fit: -o writes the fragment atomically and echoes the residuals", "[fit][cli]") {
   const fs::path out = scratch() / "sub" / "loess_a.toml";
   fs::remove_all(out.parent_path());
@@ -175,8 +207,9 @@ TEST_CASE("cli fit: bad input and curves it cannot fit fail in one line", "[fit]
                         "fit: ", "unknown target 'lade'; allowed: duncan_chang, contact");
   expect_one_line_error(stratum("fit duncan_chang --form E_x inputs/calibration/triaxial_loess_low.csv"),
                         "fit: ", "--form 'E_x'; allowed: E_nu");
-  expect_one_line_error(stratum("fit contact --form E_B inputs/calibration/direct_shear_goodman.csv"),
-                        "fit contact: ", "unknown option '--form'; allowed: --k_s0 VALUE, -o FILE");
+  expect_one_line_error(
+      stratum("fit contact --form E_B inputs/calibration/direct_shear_goodman.csv"),
+      "fit contact: ", "unknown option '--form'; allowed: --k_s0 VALUE, --range MIN:MAX, -o FILE");
   expect_one_line_error(stratum("fit duncan_chang"), "fit duncan_chang: ", "no CSV file given");
   expect_one_line_error(stratum("fit duncan_chang /nonexistent.csv"), "", "cannot open '/nonexistent.csv'");
 }

@@ -417,7 +417,8 @@ HypResult fit_hyperbolic(const HypLaw& law, const std::vector<HypCurve>& curves,
         " lie above the hyperbolas' asymptotes; allowed: 0 < R_f <= 1 (the curves are not hyperbolic)");
   if (res.n < 0)
     throw Error(source + ": n = " + fmt(res.n) + " < 0: the initial stiffness falls as " + law.s_name +
-                " grows; allowed: n >= 0");
+                " grows; allowed: n >= 0 (if the soil changes between stress levels, fit each range apart: "
+                "stratum fit --range MIN:MAX)");
   if (res.c < -1e-9 * scale_y)
     throw Error(source + ": " + law.c_name + " = " + fmt(res.c) +
                 " kPa < 0 from the peak strengths; allowed: " + law.c_name +
