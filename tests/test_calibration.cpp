@@ -351,6 +351,16 @@ TEST_CASE("fit: malformed CSV is located by line and column", "[fit]") {
   CHECK_THAT(e6, StartsWith(p6 + ":4:4 eps_axial = 0.01 does not increase (previous point 0.02 on line 3)"));
   auto [p7, e7] = err("negative.csv", "sigma3_kPa,eps_axial,q_kPa\n-50,0,0\n");
   CHECK(e7 == p7 + ":2:1 sigma3_kPa = -50; allowed: > 0 (compression positive, kPa)");
+  auto [p10, e10] = err("semicolon.csv", "sigma3_kPa;eps_axial;q_kPa\n50;0;0\n");
+  CHECK_THAT(e10, StartsWith(p10 + ":1:1 the header 'sigma3_kPa;eps_axial;q_kPa' is not comma-separated"));
+  // a byte-order mark, CRLF line ends, blanks and a leading '+' are accepted
+  const auto p11 =
+      write("bom.csv", "\xEF\xBB\xBFsigma3_kPa , eps_axial,q_kPa\r\n 50, 0, 0\r\n50,+1e-3,+12.5\r\n");
+  const auto c11 = cal::read_triaxial_csv(p11);
+  REQUIRE(c11.size() == 1);
+  CHECK(c11[0].q == std::vector<double>{0.0, 12.5});
+  CHECK(c11[0].eps_a[1] == 1e-3);
+  CHECK(c11[0].lines == std::vector<int>{2, 3});
   auto [p8, e8] = err("empty.csv", "# nothing\n\n");
   CHECK_THAT(e8, Contains("empty file: no header row"));
   const auto p9 = write("shear_bad.csv", "sigma_n_kPa,du_m,tau_kPa\n25,0,0\n25,0.001,-3\n");

@@ -78,6 +78,7 @@ CsvTable read_csv(const std::string& path, const std::vector<Column>& cols) {
   int line = 0;
   while (std::getline(in, raw)) {
     ++line;
+    if (line == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3); // a UTF-8 byte-order mark
     const std::string text = trim(raw);
     if (text.empty() || text[0] == '#') continue;
     // split, remembering where every field starts
@@ -98,6 +99,11 @@ CsvTable read_csv(const std::string& path, const std::vector<Column>& cols) {
       for (std::size_t i = 0; i < fields.size(); ++i) {
         const auto it =
             std::find_if(cols.begin(), cols.end(), [&](const Column& c) { return c.name == fields[i]; });
+        if (it == cols.end() && fields[i].find(';') != std::string::npos)
+          throw Error({path, line, starts[i]}, "the header '" + text +
+                                                   "' is not comma-separated; allowed: columns separated by "
+                                                   "commas, " +
+                                                   allowed);
         if (it == cols.end())
           throw Error({path, line, starts[i]},
                       "unknown column '" + fields[i] + "' in the header; allowed: " + allowed +
@@ -124,7 +130,8 @@ CsvTable read_csv(const std::string& path, const std::vector<Column>& cols) {
       const std::string& f = fields[i];
       const int k = field_of[i];
       double v = 0;
-      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
+      const char* first = f.data() + (f.size() > 1 && f[0] == '+' ? 1 : 0);
+      const auto [end, ec] = std::from_chars(first, f.data() + f.size(), v);
       if (f.empty() || ec != std::errc() || end != f.data() + f.size() || !std::isfinite(v))
         throw Error({path, line, starts[i]},
                     "'" + f + "' in column " + cols[k].name +
