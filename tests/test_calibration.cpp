@@ -127,7 +127,7 @@ TEST_CASE("fit: Duncan-Chang E_nu parameters of the loess set (a) are recovered"
   const std::string toml = cal::to_toml(fit, "# test");
   CHECK_THAT(toml, Contains("\nform = \"E_nu\"\n"));
   CHECK_THAT(toml, Contains("\np_a = 100.0\n"));
-  CHECK_THAT(toml, Contains("points after the peak (softening) are not used"));
+  CHECK_THAT(toml, Contains("sigma_3 = 25 kPa: 3 points after the peak (softening) not used"));
 }
 
 TEST_CASE("fit: Duncan-Chang E_B parameters (loess set (b) strength, Duncan 1980 bulk modulus)", "[fit]") {
@@ -222,6 +222,17 @@ TEST_CASE("fit: Goodman contact parameters from direct-shear curves", "[fit]") {
   check_rel("m", fit2.m, g0.m);
   check_rel("phi_peak", fit2.phi_peak, g0.phi_p);
   check_rel("c_residual", fit2.c_residual, g0.c_r);
+
+  // slopes that want k_s0 < 0: refitted with k_s0 = 0, and said so
+  const Goodman gneg{-2000, 20000, 0.89, 10, 29, 2, 24};
+  std::string csvneg = "sigma_n_kPa,du_m,tau_kPa\n";
+  for (double sn : {25.0, 50.0, 75.0}) csvneg += shear_rows(gneg, sn);
+  const auto pathneg = write("goodman_neg.csv", csvneg);
+  const auto fitneg = cal::fit_contact(cal::read_direct_shear_csv(pathneg), {}, pathneg);
+  CHECK(fitneg.k_s0 == 0.0);
+  CHECK(fitneg.m > g.m); // a steeper power law takes the place of the negative offset
+  CHECK_THAT(cal::to_toml(fitneg, "#"),
+             Contains("# note: the free fit gave k_s0 = -2000 kPa/m < 0; refitted with k_s0 = 0"));
 
   // k_s0 held at a given value
   cal::ContactOptions held;

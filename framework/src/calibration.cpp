@@ -474,6 +474,10 @@ HypCurve hyp_curve(const HypLaw& law, double s, const std::vector<double>& x, co
 
 std::string level_text(const std::string& name, double v) { return name + " = " + fmt(v) + " kPa"; }
 
+std::string count(std::size_t n, const std::string& what) {
+  return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
+}
+
 } // namespace
 
 // ================================================================ reading
@@ -567,8 +571,8 @@ DuncanChangFit fit_duncan_chang(const std::vector<TriaxialCurve>& curves, Duncan
     const std::size_t k = peak_index(c.q, c.lines, c.file, "q_kPa", level);
     peaks.push_back(k);
     if (k + 1 < c.q.size())
-      out.notes.push_back(level + ": " + std::to_string(c.q.size() - k - 1) +
-                          " points after the peak (softening) are not used");
+      out.notes.push_back(level + ": " + count(c.q.size() - k - 1, "point") +
+                          " after the peak (softening) not used");
     hc.push_back(hyp_curve(law, c.sigma3, c.eps_a, c.q, k, c.file, c.lines[0], level));
   }
   const HypResult h = fit_hyperbolic(law, hc, source, out.residuals);
@@ -801,6 +805,9 @@ ContactFit fit_contact(const std::vector<ShearCurve>& curves, const ContactOptio
   const bool free_k0 = !options.fix_k_s0 && distinct_levels(s) >= 3;
   if (!options.fix_k_s0 && !free_k0)
     out.notes.push_back("two normal stresses only: k_s0 = 0, alpha and m through both initial slopes");
+  std::string slopes; // for messages
+  for (std::size_t i = 0; i < s.size(); ++i) slopes += (i ? ", " : "") + fmt(Ks[i]) + " at " + fmt(s[i]);
+  // returns false if the refinement does not converge
   auto fit_ks = [&](bool free, double k0) {
     std::vector<double> ls, lk;
     for (std::size_t i = 0; i < s.size(); ++i) {
@@ -824,15 +831,24 @@ ContactFit fit_contact(const std::vector<ShearCurve>& curves, const ContactOptio
     typical[0] = p0[0], typical[1] = 0.1;
     if (free) p0[2] = k0, typical[2] = 0.01 * p0[0];
     const LmResult lm = levenberg_marquardt(f, p0, typical, 1e-28 * static_cast<double>(s.size()));
-    if (!lm.converged)
-      throw Error(source + ": the fit of K_s = k_s0 + alpha (sigma_n/p_a)^m to the initial slopes did not "
-                           "converge");
+    if (!lm.converged) return false;
     out.alpha = lm.p[0], out.m = lm.p[1], out.k_s0 = free ? lm.p[2] : k0;
+    return true;
   };
-  fit_ks(free_k0, options.fix_k_s0 ? options.k_s0 : 0.0);
-  if (free_k0 && out.k_s0 < 0) {
-    out.notes.push_back("the free fit gave k_s0 = " + fmt(out.k_s0) + " kPa/m < 0; refitted with k_s0 = 0");
-    fit_ks(false, 0.0);
+  const double k0 = options.fix_k_s0 ? options.k_s0 : 0.0;
+  const bool free_ok = fit_ks(free_k0, k0);
+  if (free_k0 && (!free_ok || out.k_s0 < 0)) {
+    out.notes.push_back(free_ok ? "the free fit gave k_s0 = " + fmt(out.k_s0) +
+                                      " kPa/m < 0; refitted with k_s0 = 0"
+                                : "the free fit of k_s0, alpha, m did not converge; refitted with k_s0 = 0");
+    if (!fit_ks(false, 0.0))
+      throw Error(
+          source +
+          ": the fit of alpha, m (k_s0 = 0) did not converge; initial slopes (kPa/m at sigma_n in kPa): " +
+          slopes);
+  } else if (!free_ok) {
+    throw Error(source + ": the fit of alpha, m (k_s0 = " + fmt(k0) +
+                ") did not converge; initial slopes (kPa/m at sigma_n in kPa): " + slopes);
   }
   if (out.m < 0)
     throw Error(source + ": m = " + fmt(out.m) +
@@ -863,8 +879,8 @@ InterfaceFit fit_hyperbolic_interface(const std::vector<ShearCurve>& curves, con
     const auto& c = curves[i];
     const std::string level = level_text("sigma_n", c.sigma_n);
     if (peaks[i] + 1 < c.tau.size())
-      out.notes.push_back(level + ": " + std::to_string(c.tau.size() - peaks[i] - 1) +
-                          " points after the peak (softening) are not used");
+      out.notes.push_back(level + ": " + count(c.tau.size() - peaks[i] - 1, "point") +
+                          " after the peak (softening) not used");
     hc.push_back(hyp_curve(law, c.sigma_n, c.du, c.tau, peaks[i], c.file, c.lines[0], level));
   }
   const HypResult h = fit_hyperbolic(law, hc, source, out.residuals);
