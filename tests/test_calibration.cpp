@@ -385,7 +385,7 @@ TEST_CASE("fit: Duncan-Chang from curves with 1 % scatter stays close to the gen
   // Deterministic scatter of +-1 % on q and on the lateral strain (a sine of the point
   // index): the refinement has work to do. Tolerances: 1 % on K, n, R_f, 0.5 % on phi,
   // 0.5 kPa on c, 2 % on G, F and d (the scatter's own size; the exact recovery is the
-  // 1e-3 test above). The fit lands within 0.1 % (1 % on d).
+  // 1e-3 test above). The fit lands within 0.05 % on K, n, R_f, phi, c and 0.5 % on G, F, d.
   const DC p{500, 0.82, 0.80, 26, 10, 0.18, 0.22, 20, 0, 0};
   std::string csv = triax_header;
   int idx = 0;
