@@ -3,9 +3,11 @@
 //   stratum run SCENE.toml [--out DIR] [--restart-from CHECKPOINT] [--verbose]
 //   stratum check SCENE.toml
 //   stratum plugins [--describe NAME]
+//   stratum fit TARGET CSV... [-o FILE]   (framework/cli/fit.cpp)
 //   stratum --version
 //
 // Errors are one line on stderr and a non-zero exit code.
+#include "fit.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/plugin.hpp"
 #include "stratum/plugin_loader.hpp"
@@ -30,6 +32,7 @@ constexpr const char* usage =
     "       stratum check SCENE.toml\n"
     "       stratum point POINT.toml [--out FILE.csv]\n"
     "       stratum plugins [--describe NAME]\n"
+    "       stratum fit TARGET CSV... [-o FILE.toml]\n"
     "       stratum --version\n";
 
 constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,
@@ -208,11 +211,12 @@ int main(int argc, char** argv) {
     if (cmd == "check") return run(rest, true);
     if (cmd == "plugins") return plugins(rest);
     if (cmd == "point") return point(rest);
+    if (cmd == "fit") return stratum::cli::fit(rest);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::cout << usage;
       return 0;
     }
-    throw Error("unknown command '" + cmd + "'; allowed: run, check, point, plugins, --version");
+    throw Error("unknown command '" + cmd + "'; allowed: run, check, point, fit, plugins, --version");
   } catch (const stratum::Error& e) {
     std::cerr << "stratum: " << e.what() << "\n";
     return 1;
