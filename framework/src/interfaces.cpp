@@ -90,7 +90,8 @@ std::vector<InterfacePoint> interface_points(const Model& model, const Domain& d
   for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
     const int c = dm.cells[ci];
     model.cell_nodes(c, nodes, x);
-    dm.element->point_coordinates(ElementData{c, model.mesh.cells[static_cast<std::size_t>(c)].shape(), &x}, xp);
+    dm.element->point_coordinates(ElementData{c, model.mesh.cells[static_cast<std::size_t>(c)].shape(), &x},
+                                  xp);
     for (std::size_t p = dm.first_point[ci]; p < dm.first_point[ci + 1]; ++p) {
       const auto slot = dm.states.committed(p);
       InterfacePoint ip;
@@ -211,22 +212,23 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
     }
     auto es = model.mesh.edge_sets.find(edges);
     if (es == model.mesh.edge_sets.end())
-      throw Error(location(*t->get("edges")), ctx + " edges = \"" + edges +
-                                                  "\" is not an edge set of the mesh; known: " +
-                                                  names_of(model.mesh.edge_sets));
+      throw Error(location(*t->get("edges")),
+                  ctx + " edges = \"" + edges +
+                      "\" is not an edge set of the mesh; known: " + names_of(model.mesh.edge_sets));
     std::vector<int> body2;
     if (!cells.empty()) {
       auto cs = model.mesh.cell_sets.find(cells);
       if (cs == model.mesh.cell_sets.end())
-        throw Error(location(*t->get("cells")), ctx + " cells = \"" + cells +
-                                                    "\" is not a cell set of the mesh; known: " +
-                                                    names_of(model.mesh.cell_sets));
+        throw Error(location(*t->get("cells")),
+                    ctx + " cells = \"" + cells +
+                        "\" is not a cell set of the mesh; known: " + names_of(model.mesh.cell_sets));
       body2 = cs->second;
     }
     auto lw = law_by_name.find(law);
     if (lw == law_by_name.end())
       throw Error(location(*t->get("law")),
-                  ctx + " law = \"" + law + "\" is not defined; defined [contact_laws]: " + names_of(law_by_name));
+                  ctx + " law = \"" + law +
+                      "\" is not defined; defined [contact_laws]: " + names_of(law_by_name));
     InterfaceCells kind;
     if (element == "contact2")
       kind = InterfaceCells::node_pairs;
@@ -247,7 +249,8 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
     auto ep = check_table(*t, f.schema, ctx, {"name", "edges", "cells", "element", "law", "csv"});
     if (f.schema.find("formulation")) {
       if (const auto* fv = t->get("formulation"); fv && ep.text("formulation") != form)
-        throw Error(location(*fv), ctx + " formulation contradicts [analysis] formulation = \"" + form + "\"");
+        throw Error(location(*fv),
+                    ctx + " formulation contradicts [analysis] formulation = \"" + form + "\"");
       ep.set("formulation", form, ep.where("formulation"));
     }
     InterfaceSplit split;

@@ -89,8 +89,13 @@ inline Schema schema() {
   s.real("k_n", "kPa/m", "elastic normal stiffness").greater_than(0.0);
   s.real("c", "kPa", "cohesion (adhesion) of the interface").at_least(0.0).defaults_to(0.0);
   s.real("phi", "deg", "interface friction angle").at_least(0.0).less_than(90.0).defaults_to(0.0);
-  s.real("psi", "deg", "dilation angle (psi = phi: associated)").at_least(0.0).less_than(90.0).defaults_to(0.0);
-  s.real("sigma_t", "kPa", "tensile strength of the intact interface; 0: no tension").at_least(0.0).defaults_to(0.0);
+  s.real("psi", "deg", "dilation angle (psi = phi: associated)")
+      .at_least(0.0)
+      .less_than(90.0)
+      .defaults_to(0.0);
+  s.real("sigma_t", "kPa", "tensile strength of the intact interface; 0: no tension")
+      .at_least(0.0)
+      .defaults_to(0.0);
   return s;
 }
 

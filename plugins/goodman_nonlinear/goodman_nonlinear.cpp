@@ -6,7 +6,8 @@
 STRATUM_PLUGIN(registry) {
   stratum::Factory<stratum::ContactLaw> f;
   f.name = "goodman_nonlinear";
-  f.summary = "the thesis' nonlinear two-node interface law: tau-du curve with peak, residual and Q_max memory";
+  f.summary =
+      "the thesis' nonlinear two-node interface law: tau-du curve with peak, residual and Q_max memory";
   f.schema = stratum::goodman::schema();
   f.create = stratum::goodman::create;
   registry.add(std::move(f));

@@ -190,7 +190,9 @@ private:
 inline Schema schema() {
   Schema s;
   s.real("k_s0", "kPa/m", "shear stiffness K_so at zero normal stress (3.53)").greater_than(0.0);
-  s.real("alpha", "kPa/m", "stress-dependent part of the shear stiffness (3.53)").at_least(0.0).defaults_to(0.0);
+  s.real("alpha", "kPa/m", "stress-dependent part of the shear stiffness (3.53)")
+      .at_least(0.0)
+      .defaults_to(0.0);
   s.real("m", "-", "exponent of sigma_n/p_a in the shear stiffness (3.53)").at_least(0.0).defaults_to(1.0);
   s.real("p_a", "kPa", "atmospheric pressure").greater_than(0.0).defaults_to(100.0);
   s.real("c_peak", "kPa", "peak adhesion c_p (3.54)").at_least(0.0).defaults_to(0.0);
@@ -203,7 +205,9 @@ inline Schema schema() {
       .less_than(90.0)
       .defaults_to(-1.0);
   s.real("k_s2_ratio", "-", "K_s2 / K_s1: virgin branch A-B").greater_than(0.0).defaults_to(0.5);
-  s.real("k_s3_ratio", "-", "K_s3 / K_s1: elastic stiffness after the peak").greater_than(0.0).defaults_to(1.0);
+  s.real("k_s3_ratio", "-", "K_s3 / K_s1: elastic stiffness after the peak")
+      .greater_than(0.0)
+      .defaults_to(1.0);
   s.real("k_s4_ratio", "-", "K_s4 / K_s1: unload/reload below Q_max").greater_than(0.0).defaults_to(1.0);
   s.real("k_n", "kPa/m", "normal stiffness in contact (large: no normal deformability)")
       .greater_than(0.0)
@@ -234,8 +238,9 @@ inline std::unique_ptr<ContactLaw> create(const Params& p) {
   c.gap = p.real("gap");
   const std::string ctx = p.context.empty() ? std::string() : p.context + " ";
   if (c.c_res > c.c_peak || c.tan_res > c.tan_peak)
-    throw Error(p.where("phi_residual"), ctx + "the residual strength (c_residual, phi_residual) exceeds the peak "
-                                               "(c_peak, phi_peak); allowed: residual <= peak");
+    throw Error(p.where("phi_residual"),
+                ctx + "the residual strength (c_residual, phi_residual) exceeds the peak "
+                      "(c_peak, phi_peak); allowed: residual <= peak");
   if (c.c_A > c.c_peak || c.tan_A > c.tan_peak)
     throw Error(p.where("phi_A"), ctx + "point A (c_A, phi_A) lies above the peak; allowed: A <= peak");
   return std::make_unique<GoodmanNonlinear>(c);

@@ -19,10 +19,10 @@
 namespace stratum::hyperbolic_interface {
 
 struct Constants {
-  double K_I = 0.0, n = 0.0, R_f = 0.9;       ///< stiffness number, exponent, failure ratio
-  double c_a = 0.0, tan_delta = 0.0;          ///< adhesion (kPa), tan of the friction angle
-  double gamma_w = 9.81, p_a = 100.0;         ///< kN/m3, kPa
-  double k_n = 1e6;                           ///< normal stiffness (kPa/m)
+  double K_I = 0.0, n = 0.0, R_f = 0.9; ///< stiffness number, exponent, failure ratio
+  double c_a = 0.0, tan_delta = 0.0;    ///< adhesion (kPa), tan of the friction angle
+  double gamma_w = 9.81, p_a = 100.0;   ///< kN/m3, kPa
+  double k_n = 1e6;                     ///< normal stiffness (kPa/m)
 };
 
 /// Hyperbola at compressive stress p and elastic slip ue: tau, d tau/d ue, d tau/d p.
@@ -98,7 +98,8 @@ private:
 
 inline Schema schema() {
   Schema s;
-  s.real("K_I", "-", "stiffness number of the initial shear stiffness K_I gamma_w (p/p_a)^n (3.65)").greater_than(0.0);
+  s.real("K_I", "-", "stiffness number of the initial shear stiffness K_I gamma_w (p/p_a)^n (3.65)")
+      .greater_than(0.0);
   s.real("n", "-", "stiffness exponent (3.65)").at_least(0.0).defaults_to(0.5);
   s.real("R_f", "-", "failure ratio tau_f / tau_ult (3.65)").greater_than(0.0).at_most(1.0).defaults_to(0.9);
   s.real("c_a", "kPa", "adhesion").at_least(0.0).defaults_to(0.0);

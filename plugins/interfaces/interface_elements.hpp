@@ -72,8 +72,7 @@ public:
   void check_geometry(const ElementData& cell) const override {
     const Geometry g = geometry(cell);
     if (!(g.area > 0.0))
-      throw Error("contact2 cell " + std::to_string(cell.id) + " has no tributary length (isolated node) or " +
-                  (form_ == Formulation::axisymmetric ? "lies on the axis r = 0" : "zero length"));
+      throw Error("contact2 cell " + std::to_string(cell.id) + " has no tributary length (an isolated node)");
     if (((*cell.x).row(0) - (*cell.x).row(1)).norm() > 1e-9 * (1.0 + (*cell.x).row(0).norm()))
       throw Error("contact2 cell " + std::to_string(cell.id) + ": the two nodes are not coincident");
   }
@@ -90,8 +89,14 @@ public:
     const double len = d.norm();
     if (!(len > 0.0)) return g;
     g.R = local_axes(d / len);
-    g.area = 0.5 * ((xn - xi).norm() + (xi - xp).norm());
-    if (form_ == Formulation::axisymmetric) g.area *= 2.0 * std::numbers::pi * xi.x();
+    // Tributary area: the integral of the linear shape function of node i over the two adjacent
+    // segments (half of each; in axisymmetry 2 pi (2 r_i + r_nb)/6 per unit length). It equals the
+    // consistent weight for straight 2-node edges; on 3-node edges it lumps 1/4, 1/2, 1/4.
+    for (const Vec2& nb : {xp, xn}) {
+      const double l = (nb - xi).norm();
+      g.area +=
+          form_ == Formulation::axisymmetric ? l * std::numbers::pi * (2.0 * xi.x() + nb.x()) / 3.0 : 0.5 * l;
+    }
     return g;
   }
 
@@ -104,7 +109,8 @@ public:
     const Vec2 jump_n = g.R * (u_n.segment<2>(2) - u_n.segment<2>(0));
     Vec2 tr;
     Mat2 D;
-    if (Outcome o = contact_point(*law.contact, states, first_point, jump_n, jump, cell.id, 0, tr, D); !o.ok())
+    if (Outcome o = contact_point(*law.contact, states, first_point, jump_n, jump, cell.id, 0, tr, D);
+        !o.ok())
       return o;
     out.force.setZero(8);
     const Vec2 f = g.area * (g.R.transpose() * tr);
@@ -187,6 +193,31 @@ public:
     }
   }
 
+  [[nodiscard]] double radial(double r) const {
+    return form_ == Formulation::axisymmetric ? 2.0 * std::numbers::pi * r : 1.0;
+  }
+
+  /// Newton-Cotes weight of node k: the integral of N_k over the edge (with 2 pi r in axisymmetry),
+  /// i.e. the row sum of the consistent matrix. In plane strain this is the trapezoid / Simpson
+  /// rule; in axisymmetry it keeps nodal integration exact for a uniform traction.
+  [[nodiscard]] double nodal_weight(const Eigen::MatrixX2d& X, int n, int k) const {
+    const std::array<int, 3> side1{0, 1, 4};
+    const double g = std::sqrt(0.6);
+    const std::array<double, 3> xg{-g, 0.0, g}, wg{5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+    std::array<double, 3> N{}, dN{};
+    double sum = 0.0;
+    for (int q = 0; q < 3; ++q) {
+      shape_functions(n, xg[q], N, dN);
+      Vec2 x = Vec2::Zero(), dx = Vec2::Zero();
+      for (int a = 0; a < n; ++a) {
+        x += N[a] * X.row(side1[a]).transpose();
+        dx += dN[a] * X.row(side1[a]).transpose();
+      }
+      sum += wg[q] * N[k] * dx.norm() * radial(x.x());
+    }
+    return sum;
+  }
+
   [[nodiscard]] Outcome compute(const ElementData& cell, const Eigen::VectorXd& u, const Eigen::VectorXd& u_n,
                                 const Constitutive& law, StateStore& states, std::size_t first_point,
                                 bool want_tangent, ElementResult& out) const override {
@@ -195,6 +226,7 @@ public:
     const int n = X.rows() == 6 ? 3 : 2;
     // Rows of body-1 nodes along a -> b and of their partners on body 2.
     const std::array<int, 3> side1{0, 1, 4}, side2{3, 2, 5};
+    const std::array<int, 3> node_of_point{0, 2, 1}; // Simpson points -1, 0, 1 sit on a, mid, b
     const auto ndof = static_cast<Eigen::Index>(2 * X.rows());
     std::array<double, 3> xi{}, w{}, N{}, dN{};
     rule(n, xi, w);
@@ -221,12 +253,12 @@ public:
       const Vec2 jump = B * u, jump_n = B * u_n;
       Vec2 tr;
       Mat2 D;
-      if (Outcome o = contact_point(*law.contact, states, first_point + static_cast<std::size_t>(q), jump_n, jump,
-                                    cell.id, q, tr, D);
+      if (Outcome o = contact_point(*law.contact, states, first_point + static_cast<std::size_t>(q), jump_n,
+                                    jump, cell.id, q, tr, D);
           !o.ok())
         return o;
-      double dA = w[q] * J;
-      if (form_ == Formulation::axisymmetric) dA *= 2.0 * std::numbers::pi * x.x();
+      const double dA = rule_ == LineRule::gauss ? w[q] * J * radial(x.x())
+                                                 : nodal_weight(X, n, n == 3 ? node_of_point[q] : q);
       out.force += dA * (B.transpose() * tr);
       if (want_tangent) out.stiffness += dA * (B.transpose() * D * B);
     }
@@ -285,10 +317,11 @@ public:
     const double r = thickness_ratio(*cell.x);
     if (r < min_ * (1 - 1e-9) || r > max_ * (1 + 1e-9)) {
       char buf[200];
-      std::snprintf(buf, sizeof buf,
-                    "thin_layer cell %d has thickness ratio t/b = %.4g; allowed: %.4g to %.4g (Desai & Zaman: "
-                    "thinner layers are ill-conditioned, thicker ones are not an interface)",
-                    cell.id, r, min_, max_);
+      std::snprintf(
+          buf, sizeof buf,
+          "thin_layer cell %d has thickness ratio t/b = %.4g; allowed: %.4g to %.4g (Desai & Zaman: "
+          "thinner layers are ill-conditioned, thicker ones are not an interface)",
+          cell.id, r, min_, max_);
       throw Error(buf);
     }
   }
@@ -303,7 +336,9 @@ public:
   void point_coordinates(const ElementData& cell, Eigen::MatrixX2d& xp) const override {
     quad_.point_coordinates(cell, xp);
   }
-  void point_weights(const ElementData& cell, Eigen::VectorXd& w) const override { quad_.point_weights(cell, w); }
+  void point_weights(const ElementData& cell, Eigen::VectorXd& w) const override {
+    quad_.point_weights(cell, w);
+  }
 
 private:
   quad::QuadElement quad_;

@@ -60,8 +60,13 @@ STRATUM_PLUGIN(registry) {
         .at_least(2)
         .at_most(4)
         .defaults_to(2LL);
-    f.schema.real("min_ratio", "-", "smallest allowed thickness ratio t/b").greater_than(0.0).defaults_to(0.01);
-    f.schema.real("max_ratio", "-", "largest allowed thickness ratio t/b").greater_than(0.0).at_most(1.0).defaults_to(0.1);
+    f.schema.real("min_ratio", "-", "smallest allowed thickness ratio t/b")
+        .greater_than(0.0)
+        .defaults_to(0.01);
+    f.schema.real("max_ratio", "-", "largest allowed thickness ratio t/b")
+        .greater_than(0.0)
+        .at_most(1.0)
+        .defaults_to(0.1);
     f.create = [](const Params& p) -> std::unique_ptr<Element> {
       quad::Options o;
       o.formulation = formulation_of(p.text("formulation"));
