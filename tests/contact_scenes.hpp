@@ -2,7 +2,10 @@
 // conditioning benchmark (tools/bench/contact_conditioning.cpp).
 #pragma once
 
+#include "stratum/analysis.hpp"
 #include "stratum/model.hpp"
+
+#include <Eigen/Dense>
 
 #include <cmath>
 #include <numbers>
@@ -121,6 +124,58 @@ inline double pile_load(const Model& m, const PileSpec& s) {
   double P = 0.0;
   for (int n : m.mesh.node_sets.at(s.pile_nodes())) P += m.reactions[2 * n + 1];
   return std::abs(P);
+}
+
+/// One row of the C3 conditioning sweep: the C2 column with k_n = ratio E / h (h = cell height).
+struct ConditioningRow {
+  std::string kind;
+  double ratio = 0.0;           ///< k_n h / E
+  double cond = 0.0;            ///< 2-norm condition number of the free-free tangent at the solution
+  int iterations = 0;           ///< Newton iterations (linear solves) of the load step
+  double error = 0.0;           ///< |w - w_exact| / w_exact at the top
+  double interface_error = 0.0; ///< error of the interface closure relative to q / k_n
+  bool ok = false;
+};
+
+inline ConditioningRow conditioning(const std::string& kind, double ratio, int nodes_per_cell,
+                                    const std::string& plugin_dir) {
+  ColumnSpec s;
+  s.kind = kind;
+  s.nodes_per_cell = nodes_per_cell;
+  s.kn = ratio * s.E / (s.H / s.ny);
+  RunOptions o;
+  o.plugin_dirs = {plugin_dir};
+  o.write_output = false;
+  auto a = Analysis::from_string(column_scene(s), "c3.toml", o);
+  const auto run = a->run();
+  ConditioningRow row;
+  row.kind = kind;
+  row.ratio = ratio;
+  row.ok = run.outcome.ok();
+  for (const auto& r : run.reports) row.iterations += r.iterations;
+  Model& m = a->model();
+  // Top displacement (any top node: the state is uniform) and the interface closure.
+  double top = 0.0, bottom = 0.0;
+  for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n) {
+    if (std::abs(m.mesh.nodes[n].y() - s.top()) < 1e-12) top = -m.u[static_cast<Eigen::Index>(2 * n + 1)];
+    if (s.thin() && std::abs(m.mesh.nodes[n].y() - s.layer) < 1e-12)
+      bottom = -m.u[static_cast<Eigen::Index>(2 * n + 1)];
+  }
+  if (!s.thin()) bottom = -m.u[2 * m.mesh.node_sets.at("base.side1").front() + 1];
+  row.error = std::abs(top - s.expected()) / s.expected();
+  row.interface_error = std::abs(bottom - s.q / s.kn) / (s.q / s.kn);
+  const Assembler asm_(m);
+  SparseMatrix k = asm_.make_matrix();
+  Eigen::VectorXd f;
+  if (asm_.assemble(m, m.u, f, &k).ok()) {
+    const Eigen::MatrixXd K(k);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (K + K.transpose()),
+                                                            Eigen::EigenvaluesOnly);
+    const auto& ev = es.eigenvalues();
+    row.cond = ev.cwiseAbs().maxCoeff() / ev.cwiseAbs().minCoeff();
+  }
+  for (auto& dm : m.domains) dm.states.revert();
+  return row;
 }
 
 } // namespace stratum::testing
