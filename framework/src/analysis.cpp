@@ -2,6 +2,8 @@
 
 #include "checkpoint.hpp"
 #include "stage.hpp"
+#include "scene_interfaces.hpp"
+#include "stratum/interfaces.hpp"
 #include "stratum/mesh_io.hpp"
 #include "stratum/vtk_output.hpp"
 #include "toml_check.hpp"
@@ -201,6 +203,7 @@ struct Analysis::Impl {
   Registry registry;
   std::vector<std::unique_ptr<Material>> materials;
   std::vector<std::unique_ptr<Element>> elements;
+  SceneInterfaces interfaces; ///< contact laws, interface elements, named interfaces
   std::unique_ptr<Solver> solver;
   Model model;
   std::string linear_solver = "auto";
@@ -216,6 +219,7 @@ struct Analysis::Impl {
   double time = 0.0; ///< output time: stage number - 1 + load factor
   // Pile curves ([output] pile_head, pile_cells)
   std::string pile_head, pile_cells;
+  std::string out_dir; ///< where the run writes (for the interface CSV files)
 
   void build(const toml::table& root);
   stage::LoadSpec parse_load(const toml::table& t, const std::string& where_ctx,
@@ -231,7 +235,7 @@ void Analysis::Impl::build(const toml::table& root) {
   // ---- top level
   static const std::vector<std::string_view> top_keys{"title", "analysis",  "convergence", "solver",
                                                       "mesh",  "materials", "domains",     "constraints",
-                                                      "loads", "stages",    "output",      "plugins"};
+                                                      "loads", "stages",    "output",      "plugins", "contact_laws", "interfaces"};
   for (auto&& [key, value] : root) {
     const std::string k(key.str());
     if (std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end()) {
@@ -429,6 +433,10 @@ void Analysis::Impl::build(const toml::table& root) {
       const unsigned shape = model.mesh.cells[cell].shape();
       try {
         dm.element->check_shape(shape);
+        std::vector<int> cn;
+        Eigen::MatrixX2d cx;
+        model.cell_nodes(cell, cn, cx);
+        dm.element->check_geometry(ElementData{cell, shape, &cx});
       } catch (const Error& e) {
         throw Error(location(*t.get("element")), ctx + " cell " + std::to_string(cell) + ": " + e.message());
       }
@@ -442,6 +450,7 @@ void Analysis::Impl::build(const toml::table& root) {
     dm.states.revert();
     model.domains.push_back(std::move(dm));
   }
+  read_scene_interfaces(root, *catalog, registry, model, interfaces);
 
   // ---- constraints
   const auto ndof = static_cast<Eigen::Index>(model.mesh.nodes.size() * DofMap::per_node);
@@ -810,7 +819,14 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
     }
   out.cell_fields = {std::move(stress), std::move(set_id)};
   if (ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain)};
+  if (ip_output && !interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
   w.write(out);
+  for (const auto& itf : interfaces.interfaces)
+    if (itf.csv)
+      write_interface_csv(interface_points(m, m.domains[itf.domain]),
+                          (fs::path(out_dir) / (fs::path(path).stem().string() + "_" + itf.name + "_" +
+                                                std::to_string(w.steps_written() - 1) + ".csv"))
+                              .string());
 }
 
 Analysis::Analysis(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -1082,6 +1098,7 @@ RunSummary Analysis::run() {
   RunSummary summary;
   summary.out_dir =
       s.options.out_dir.empty() ? (fs::path("out") / fs::path(s.path).stem()).string() : s.options.out_dir;
+  s.out_dir = summary.out_dir;
   std::size_t first = 0;
   if (!s.options.restart_from.empty()) {
     const std::string& path = s.options.restart_from;

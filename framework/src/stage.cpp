@@ -150,8 +150,61 @@ void set_geostatic(Model& model, const std::vector<int>& cells, double gamma, do
   });
 }
 
+namespace {
+
+/// Puts the interface points of the given cells under a normal compression p(x) (kPa) with zero
+/// shear: the normal jump is found by Newton iterations on the law itself, so that any law
+/// (including those whose normal stress follows the total jump) starts from that traction.
+template <class Pressure> void set_interface_compression(Model& m, const std::vector<int>& cells, Pressure&& p) {
+  const auto owner = cell_owners(m);
+  std::vector<int> nodes;
+  Eigen::MatrixX2d x, xp;
+  for (int c : cells) {
+    const auto [d, i] = owner[static_cast<std::size_t>(c)];
+    if (d < 0) continue;
+    auto& dm = m.domains[static_cast<std::size_t>(d)];
+    if (!dm.law.contact) continue;
+    m.cell_nodes(c, nodes, x);
+    dm.element->point_coordinates(ElementData{c, m.mesh.cells[c].shape(), &x}, xp);
+    const auto first = dm.first_point[static_cast<std::size_t>(i)];
+    const auto last = dm.first_point[static_cast<std::size_t>(i) + 1];
+    std::vector<double> h0(static_cast<std::size_t>(dm.law.contact->history_size()));
+    std::vector<double> h1(h0.size());
+    for (std::size_t q = first; q < last; ++q) {
+      auto slot = m.domains[static_cast<std::size_t>(d)].states.committed_for_init(q);
+      dm.law.contact->init_history(h0);
+      const double target = -p(Eigen::Vector2d(xp.row(static_cast<Eigen::Index>(q - first))));
+      const Vec2 zero = Vec2::Zero();
+      Vec2 jump = Vec2::Zero(), traction = Vec2::Zero();
+      Mat2 tangent = Mat2::Zero();
+      for (int it = 0; it < 50; ++it) {
+        ContactOutput out{traction, h1, tangent};
+        if (!dm.law.contact->update(ContactInput{zero, zero, h0, jump, PointContext{c, static_cast<int>(q - first)}}, out)
+                 .ok())
+          break;
+        const double r = traction[1] - target;
+        if (std::abs(r) <= 1e-12 * std::max(1.0, std::abs(target)) || !(tangent(1, 1) > 0)) break;
+        jump[1] -= r / tangent(1, 1);
+      }
+      slot.stress().setZero();
+      slot.stress()[0] = traction[0];
+      slot.stress()[1] = traction[1];
+      slot.strain().setZero();
+      slot.strain()[0] = jump[0];
+      slot.strain()[1] = jump[1];
+      std::copy(h1.begin(), h1.end(), slot.history().begin());
+    }
+    dm.states.hold(first, last);
+  }
+}
+
+} // namespace
+
 void set_placed_stress(Model& model, const std::vector<int>& cells, bool hydrostatic, double gamma,
                        double surface) {
+  if (hydrostatic)
+    set_interface_compression(model, cells,
+                              [&](const Eigen::Vector2d& x) { return gamma * std::max(surface - x.y(), 0.0); });
   for_points(model, cells, [&](const Domain& dm, PointSlot<double>& slot, const Eigen::Vector2d& x) {
     Vec6 s = Vec6::Zero();
     if (hydrostatic) {

@@ -270,6 +270,17 @@ int vtk_cell(const Cell& c, int index, std::size_t num_nodes, unsigned char& typ
     }
   }
   const unsigned shape = c.shape();
+  if (c.kind == CellKind::node_pair) { // the two coincident nodes (slots 2, 3 are geometry only)
+    type = VTK_LINE;
+    ids[0] = c.nodes[0], ids[1] = c.nodes[1];
+    return 2;
+  }
+  if (c.kind == CellKind::line_interface && shape == 0x5Fu) { // 3 + 3 nodes
+    type = VTK_QUADRATIC_LINEAR_QUAD;
+    for (int s = 0; s < 4; ++s) ids[s] = c.nodes[s];
+    ids[4] = c.nodes[4], ids[5] = c.nodes[6];
+    return 6;
+  }
   if ((shape & 0x0Fu) != 0x0Fu) {
     throw Error("VTK output: cell " + std::to_string(index) + " lacks a corner node");
   }

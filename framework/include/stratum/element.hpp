@@ -56,6 +56,10 @@ public:
   /// Throws stratum::Error when a cell of this shape cannot be handled by this element.
   virtual void check_shape(unsigned shape) const = 0;
 
+  /// Throws stratum::Error when the geometry of a cell is unsuitable (called once per cell
+  /// before the run, after check_shape); the default accepts every cell.
+  virtual void check_geometry(const ElementData& /*cell*/) const {}
+
   /// Internal force and (when want_tangent) tangent at the trial displacement u.
   /// u and u_n are the total trial and committed displacements of the cell's DOFs.
   /// Reads states.committed(first_point + i), writes states.trial(first_point + i).

@@ -8,16 +8,27 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
 namespace stratum {
 
+/// What a cell is geometrically (for checks and output; elements only see its nodes).
+///  * solid: a quadrilateral of the continuum (slots as below);
+///  * node_pair: a two-node contact cell (stratum/interfaces.hpp): slot 0 the node of body 1,
+///    slot 1 its coincident partner of body 2, slots 2 and 3 the body-1 nodes before and after
+///    slot 0 along the interface (slot 0 itself at an end), for the direction and tributary length;
+///  * line_interface: a zero-thickness quadrilateral: slots 0, 1 (and midside 4) on body 1, slots
+///    2, 3 (and midside 6) on body 2, slot 3 coincident with 0, 2 with 1, 6 with 4.
+enum class CellKind : std::uint8_t { solid = 0, node_pair = 1, line_interface = 2 };
+
 /// A cell: up to 8 node slots, -1 for an absent slot. For the quadrilateral
 /// family the slots follow element.hpp (0-3 corners counter-clockwise, 4-7 midside).
 struct Cell {
   std::array<int, 8> nodes{-1, -1, -1, -1, -1, -1, -1, -1};
+  CellKind kind = CellKind::solid;
 
   /// Bitmask of the present slots.
   [[nodiscard]] unsigned shape() const {

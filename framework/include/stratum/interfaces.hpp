@@ -1,0 +1,65 @@
+// Interfaces between bodies: splitting the mesh along an edge set (duplicated nodes and
+// interface cells between the copies), and reading back the state of interface points for
+// output. Used by the scene reader ([[interfaces]]) and by mesh generators (e.g. a pile mesh).
+//
+// Conventions (see contact_law.hpp): at an interface point the tangent t follows the edges
+// a -> b (body 1's counter-clockwise boundary) and the normal n = (t_y, -t_x) points out of
+// body 1 into body 2. The jump is u(body 2) - u(body 1) in (t, n): slip, opening (> 0 = open).
+#pragma once
+
+#include "stratum/contact_law.hpp"
+#include "stratum/mesh.hpp"
+#include "stratum/model.hpp"
+#include "stratum/vtk_output.hpp"
+
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+/// Which interface cells split_interface() creates.
+enum class InterfaceCells {
+  node_pairs, ///< one CellKind::node_pair cell per duplicated node (two-node contact elements)
+  line,       ///< one CellKind::line_interface cell per edge (2 + 2 or 3 + 3 nodes)
+};
+
+/// What split_interface() did to the mesh.
+struct InterfaceSplit {
+  std::vector<int> side1; ///< the interface nodes of body 1 (sorted)
+  std::vector<int> side2; ///< their copies, side2[i] pairs with side1[i]
+  std::vector<int> cells; ///< the interface cells appended to the mesh
+};
+
+/// Splits the mesh along `edges` (each a -> b on body 1's counter-clockwise boundary; body 1
+/// keeps the original nodes). Every node of the edges is duplicated at the same place; the
+/// cells `body2_cells` get the copies instead of the originals (empty: the copies belong to
+/// nothing but the interface, e.g. a rigid body driven through constraints). Interface cells
+/// of `kind` are appended to mesh.cells. Sets added: cell set `name` (the interface cells),
+/// node sets `name.side1`, `name.side2`, edge set `name.side2` (the copied edges, reversed so
+/// that they follow body 2's counter-clockwise boundary). Throws Error for an empty or
+/// malformed edge set or a name already used.
+InterfaceSplit split_interface(Mesh& mesh, const std::string& name, const std::vector<Edge>& edges,
+                               const std::vector<int>& body2_cells, InterfaceCells kind);
+
+/// The state of one interface integration point.
+struct InterfacePoint {
+  Vec2 x;         ///< coordinates
+  double s = 0.0; ///< distance along the interface from its first point (m)
+  Vec2 traction;  ///< shear, normal (kPa; normal tension positive)
+  Vec2 jump;      ///< slip, opening (m)
+  ContactState state = ContactState::stick;
+};
+
+/// The committed states of the points of a domain with a ContactLaw, in cell order.
+[[nodiscard]] std::vector<InterfacePoint> interface_points(const Model& model, const Domain& domain);
+
+/// Writes the points as CSV (header: s,x,y,shear_traction,normal_traction,slip,opening,status).
+/// Throws Error when the file cannot be written.
+void write_interface_csv(const std::vector<InterfacePoint>& points, const std::string& path);
+
+/// Integration-point fields over every domain of the model in output order (domains, cells,
+/// points): "interface_traction" (shear, normal), "interface_jump" (slip, opening) and
+/// "interface_status" (0 stick, 1 slip, 2 open; -1 at continuum points).
+void append_interface_fields(const Model& model, std::vector<Field>& ip_fields);
+
+} // namespace stratum

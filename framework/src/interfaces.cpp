@@ -1,0 +1,296 @@
+#include "stratum/interfaces.hpp"
+
+#include "scene_interfaces.hpp"
+#include "toml_check.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+
+namespace stratum {
+
+InterfaceSplit split_interface(Mesh& mesh, const std::string& name, const std::vector<Edge>& edges,
+                               const std::vector<int>& body2_cells, InterfaceCells kind) {
+  const std::string ctx = "interface '" + name + "'";
+  if (edges.empty()) throw Error(ctx + ": the edge set is empty");
+  if (mesh.cell_sets.count(name) || mesh.node_sets.count(name + ".side1") ||
+      mesh.node_sets.count(name + ".side2"))
+    throw Error(ctx + ": the mesh already has a set of this name");
+  const auto nn = static_cast<int>(mesh.nodes.size());
+  // Chains along the interface: next/prev of every node in the a -> (mid) -> b order.
+  std::map<int, int> next, prev;
+  std::set<int> nodes;
+  for (const Edge& e : edges) {
+    if (e.a < 0 || e.b < 0 || e.a >= nn || e.b >= nn || e.mid >= nn || e.a == e.b)
+      throw Error(ctx + ": edge {" + std::to_string(e.a) + ", " + std::to_string(e.b) +
+                  "} refers to a missing node");
+    std::vector<int> seq{e.a};
+    if (e.mid >= 0) seq.push_back(e.mid);
+    seq.push_back(e.b);
+    for (std::size_t k = 0; k + 1 < seq.size(); ++k) {
+      if (next.count(seq[k]) || prev.count(seq[k + 1]))
+        throw Error(ctx + ": node " + std::to_string(seq[k]) +
+                    " starts two edges; the edges must form non-branching chains a -> b");
+      next[seq[k]] = seq[k + 1];
+      prev[seq[k + 1]] = seq[k];
+    }
+    nodes.insert(seq.begin(), seq.end());
+  }
+  InterfaceSplit out;
+  std::map<int, int> copy;
+  for (int n : nodes) {
+    const auto c = static_cast<int>(mesh.nodes.size());
+    mesh.nodes.push_back(mesh.nodes[static_cast<std::size_t>(n)]);
+    copy[n] = c;
+    out.side1.push_back(n);
+    out.side2.push_back(c);
+  }
+  for (int c : body2_cells) {
+    if (c < 0 || static_cast<std::size_t>(c) >= mesh.cells.size())
+      throw Error(ctx + ": body-2 cell " + std::to_string(c) + " does not exist");
+    for (int& n : mesh.cells[static_cast<std::size_t>(c)].nodes)
+      if (auto it = copy.find(n); it != copy.end()) n = it->second;
+  }
+  std::vector<Edge> side2_edges;
+  for (const Edge& e : edges)
+    side2_edges.push_back(Edge{copy[e.b], copy[e.a], e.mid >= 0 ? copy[e.mid] : -1});
+  if (kind == InterfaceCells::line) {
+    for (const Edge& e : edges) {
+      Cell cell;
+      cell.kind = CellKind::line_interface;
+      cell.nodes[0] = e.a, cell.nodes[1] = e.b, cell.nodes[2] = copy[e.b], cell.nodes[3] = copy[e.a];
+      if (e.mid >= 0) cell.nodes[4] = e.mid, cell.nodes[6] = copy[e.mid];
+      out.cells.push_back(static_cast<int>(mesh.cells.size()));
+      mesh.cells.push_back(cell);
+    }
+  } else {
+    for (int n : nodes) {
+      Cell cell;
+      cell.kind = CellKind::node_pair;
+      cell.nodes[0] = n, cell.nodes[1] = copy[n];
+      cell.nodes[2] = prev.count(n) ? prev[n] : n;
+      cell.nodes[3] = next.count(n) ? next[n] : n;
+      out.cells.push_back(static_cast<int>(mesh.cells.size()));
+      mesh.cells.push_back(cell);
+    }
+  }
+  mesh.cell_sets[name] = out.cells;
+  mesh.node_sets[name + ".side1"] = out.side1;
+  mesh.add_edge_set(name + ".side2", std::move(side2_edges)); // also node set name.side2 (sorted)
+  return out;
+}
+
+std::vector<InterfacePoint> interface_points(const Model& model, const Domain& dm) {
+  std::vector<InterfacePoint> pts;
+  if (!dm.law.contact) return pts;
+  std::vector<int> nodes;
+  Eigen::MatrixX2d x, xp;
+  for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
+    const int c = dm.cells[ci];
+    if (!model.is_active(c)) continue; // output skips cells removed or not yet placed
+    model.cell_nodes(c, nodes, x);
+    dm.element->point_coordinates(ElementData{c, model.mesh.cells[static_cast<std::size_t>(c)].shape(), &x},
+                                  xp);
+    for (std::size_t p = dm.first_point[ci]; p < dm.first_point[ci + 1]; ++p) {
+      const auto slot = dm.states.committed(p);
+      InterfacePoint ip;
+      ip.x = xp.row(static_cast<Eigen::Index>(p - dm.first_point[ci])).transpose();
+      ip.traction = Vec2(slot.stress()[0], slot.stress()[1]);
+      ip.jump = Vec2(slot.strain()[0], slot.strain()[1]);
+      ip.state = dm.law.contact->state(ip.traction, slot.history());
+      pts.push_back(ip);
+    }
+  }
+  if (!pts.empty())
+    for (auto& p : pts) p.s = (p.x - pts.front().x).norm();
+  return pts;
+}
+
+void write_interface_csv(const std::vector<InterfacePoint>& points, const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw Error("cannot write interface CSV file '" + path + "'");
+  out << "s,x,y,shear_traction,normal_traction,slip,opening,status\n";
+  static const char* names[] = {"stick", "slip", "open"};
+  char buf[256];
+  for (const auto& p : points) {
+    std::snprintf(buf, sizeof buf, "%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,", p.s, p.x.x(), p.x.y(),
+                  p.traction[0], p.traction[1], p.jump[0], p.jump[1]);
+    out << buf << names[static_cast<int>(p.state)] << '\n';
+  }
+  if (!out) throw Error("cannot write interface CSV file '" + path + "'");
+}
+
+void append_interface_fields(const Model& model, std::vector<Field>& ip_fields) {
+  Field tr{"interface_traction", 2, {}}, jump{"interface_jump", 2, {}}, status{"interface_status", 1, {}};
+  for (const auto& dm : model.domains) {
+    if (!dm.law.contact) {
+      std::size_t n = 0;
+      for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)
+        if (model.is_active(dm.cells[ci])) n += dm.first_point[ci + 1] - dm.first_point[ci];
+      tr.values.insert(tr.values.end(), 2 * n, 0.0);
+      jump.values.insert(jump.values.end(), 2 * n, 0.0);
+      status.values.insert(status.values.end(), n, -1.0);
+      continue;
+    }
+    for (const auto& p : interface_points(model, dm)) {
+      tr.values.insert(tr.values.end(), {p.traction[0], p.traction[1]});
+      jump.values.insert(jump.values.end(), {p.jump[0], p.jump[1]});
+      status.values.push_back(static_cast<double>(static_cast<int>(p.state)));
+    }
+  }
+  ip_fields.push_back(std::move(tr));
+  ip_fields.push_back(std::move(jump));
+  ip_fields.push_back(std::move(status));
+}
+
+// ---------------------------------------------------------------- scene input
+
+namespace {
+
+using io::check_table;
+using io::location;
+using io::require_string;
+
+template <class Map> std::string names_of(const Map& m) {
+  std::string s;
+  for (const auto& [k, v] : m) s += (s.empty() ? "" : ", ") + k;
+  return s.empty() ? "(none)" : s;
+}
+
+} // namespace
+
+void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Registry& registry, Model& model,
+                           SceneInterfaces& out) {
+  // [contact_laws.<name>]
+  std::map<std::string, const ContactLaw*> law_by_name;
+  if (const toml::node* n = root.get("contact_laws")) {
+    const auto* laws = n->as_table();
+    if (!laws) throw Error(location(*n), "contact_laws must be a table of [contact_laws.<name>] tables");
+    for (auto&& [key, value] : *laws) {
+      const std::string name(key.str());
+      const std::string ctx = "[contact_laws." + name + "]";
+      const auto* t = value.as_table();
+      if (!t) throw Error(location(value), ctx + " must be a table");
+      const std::string model_name = require_string(*t, "model", ctx);
+      try {
+        catalog.require(registry, PluginKind::contact_law, model_name);
+      } catch (const Error& e) {
+        throw Error(location(*t->get("model")), ctx + " model = \"" + model_name + "\": " + e.message());
+      }
+      const auto& f = registry.contact_law(model_name);
+      out.laws.push_back(f.create(check_table(*t, f.schema, ctx, {"model"})));
+      law_by_name[name] = out.laws.back().get();
+    }
+  }
+
+  // [[interfaces]]
+  const toml::node* list = root.get("interfaces");
+  if (!list) return;
+  const auto* arr = list->as_array();
+  if (!arr) throw Error(location(*list), "interfaces must be an array of tables [[interfaces]]");
+  int index = 0;
+  for (const auto& entry : *arr) {
+    ++index;
+    const auto* t = entry.as_table();
+    if (!t) throw Error(location(entry), "interfaces entries must be tables [[interfaces]]");
+    const std::string ctx = "[[interfaces]] #" + std::to_string(index);
+    const std::string edges = require_string(*t, "edges", ctx);
+    const std::string element = require_string(*t, "element", ctx);
+    const std::string law = require_string(*t, "law", ctx);
+    std::string name = edges, cells;
+    bool csv = true;
+    if (const auto* v = t->get("name")) {
+      if (!v->is_string()) throw Error(location(*v), ctx + " name must be a string");
+      name = v->as_string()->get();
+    }
+    if (const auto* v = t->get("cells")) {
+      if (!v->is_string()) throw Error(location(*v), ctx + " cells must be a string (a cell set)");
+      cells = v->as_string()->get();
+    }
+    if (const auto* v = t->get("csv")) {
+      if (!v->is_boolean()) throw Error(location(*v), ctx + " csv must be true or false");
+      csv = v->as_boolean()->get();
+    }
+    auto es = model.mesh.edge_sets.find(edges);
+    if (es == model.mesh.edge_sets.end())
+      throw Error(location(*t->get("edges")),
+                  ctx + " edges = \"" + edges +
+                      "\" is not an edge set of the mesh; known: " + names_of(model.mesh.edge_sets));
+    std::vector<int> body2;
+    if (!cells.empty()) {
+      auto cs = model.mesh.cell_sets.find(cells);
+      if (cs == model.mesh.cell_sets.end())
+        throw Error(location(*t->get("cells")),
+                    ctx + " cells = \"" + cells +
+                        "\" is not a cell set of the mesh; known: " + names_of(model.mesh.cell_sets));
+      body2 = cs->second;
+    }
+    auto lw = law_by_name.find(law);
+    if (lw == law_by_name.end())
+      throw Error(location(*t->get("law")),
+                  ctx + " law = \"" + law +
+                      "\" is not defined; defined [contact_laws]: " + names_of(law_by_name));
+    InterfaceCells kind;
+    if (element == "contact2")
+      kind = InterfaceCells::node_pairs;
+    else if (element == "interface_line")
+      kind = InterfaceCells::line;
+    else
+      throw Error(location(*t->get("element")),
+                  ctx + " element = \"" + element +
+                      "\" is not allowed; allowed: contact2 or interface_line (a thin_layer is a row of "
+                      "thin cells given as [[domains]] with a material)");
+    try {
+      catalog.require(registry, PluginKind::element, element);
+    } catch (const Error& e) {
+      throw Error(location(*t->get("element")), ctx + " element = \"" + element + "\": " + e.message());
+    }
+    const auto& f = registry.element(element);
+    const std::string form = model.formulation == Formulation::axisymmetric ? "axisymmetric" : "plane_strain";
+    auto ep = check_table(*t, f.schema, ctx, {"name", "edges", "cells", "element", "law", "csv"});
+    if (f.schema.find("formulation")) {
+      if (const auto* fv = t->get("formulation"); fv && ep.text("formulation") != form)
+        throw Error(location(*fv),
+                    ctx + " formulation contradicts [analysis] formulation = \"" + form + "\"");
+      ep.set("formulation", form, ep.where("formulation"));
+    }
+    InterfaceSplit split;
+    try {
+      split = split_interface(model.mesh, name, es->second, body2, kind);
+    } catch (const Error& e) {
+      throw Error(location(*t), ctx + ": " + e.message());
+    }
+    out.elements.push_back(f.create(ep));
+    Domain dm;
+    dm.name = name;
+    dm.set_id = static_cast<int>(model.domains.size());
+    dm.element = out.elements.back().get();
+    dm.law.contact = lw->second;
+    dm.cells = split.cells;
+    dm.first_point.assign(dm.cells.size() + 1, 0);
+    std::vector<int> nodes;
+    Eigen::MatrixX2d x;
+    for (std::size_t c = 0; c < dm.cells.size(); ++c) {
+      const int cell = dm.cells[c];
+      const unsigned shape = model.mesh.cells[static_cast<std::size_t>(cell)].shape();
+      try {
+        dm.element->check_shape(shape);
+        model.cell_nodes(cell, nodes, x);
+        dm.element->check_geometry(ElementData{cell, shape, &x});
+      } catch (const Error& e) {
+        throw Error(location(*t->get("element")), ctx + " cell " + std::to_string(cell) + ": " + e.message());
+      }
+      dm.first_point[c + 1] = dm.first_point[c] + static_cast<std::size_t>(dm.element->num_points(shape));
+    }
+    dm.states = StateStore(dm.first_point.back(), dm.law.contact->history_size());
+    for (std::size_t p = 0; p < dm.states.points(); ++p)
+      dm.law.contact->init_history(dm.states.committed_for_init(p).history());
+    dm.states.revert();
+    out.interfaces.push_back({name, model.domains.size(), csv});
+    model.domains.push_back(std::move(dm));
+  }
+}
+
+} // namespace stratum

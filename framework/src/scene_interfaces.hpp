@@ -1,0 +1,37 @@
+// Reading [contact_laws.<name>] and [[interfaces]] of a scene (internal to the framework).
+#pragma once
+
+#include "stratum/contact_law.hpp"
+#include "stratum/element.hpp"
+#include "stratum/model.hpp"
+#include "stratum/plugin_loader.hpp"
+#include "stratum/registry.hpp"
+
+#include <toml++/toml.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+/// The contact laws, interface element kinds and named interfaces of a scene.
+struct SceneInterfaces {
+  struct Named {
+    std::string name;
+    std::size_t domain = 0; ///< index into Model::domains
+    bool csv = true;        ///< write <stem>_<name>_<step>.csv with every output step
+  };
+  std::vector<std::unique_ptr<ContactLaw>> laws;
+  std::vector<std::unique_ptr<Element>> elements;
+  std::vector<Named> interfaces;
+};
+
+/// Builds the contact laws, splits the mesh along every [[interfaces]] entry (see
+/// split_interface) and appends one Domain per interface to the model. Call after the
+/// [[domains]] are built and before constraints are read (the node sets <name>.side1/.side2
+/// exist afterwards). Throws Error with file:line:col on bad input.
+void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Registry& registry, Model& model,
+                           SceneInterfaces& out);
+
+} // namespace stratum

@@ -1,0 +1,14 @@
+// Plugin entry point of the "goodman_nonlinear" contact law (goodman_nonlinear.hpp).
+#include "goodman_nonlinear.hpp"
+
+#include "stratum/plugin.hpp"
+
+STRATUM_PLUGIN(registry) {
+  stratum::Factory<stratum::ContactLaw> f;
+  f.name = "goodman_nonlinear";
+  f.summary =
+      "the thesis' nonlinear two-node interface law: tau-du curve with peak, residual and Q_max memory";
+  f.schema = stratum::goodman::schema();
+  f.create = stratum::goodman::create;
+  registry.add(std::move(f));
+}
