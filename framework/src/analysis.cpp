@@ -212,9 +212,9 @@ struct Analysis::Impl {
 
 void Analysis::Impl::build(const toml::table& root) {
   // ---- top level
-  static const std::vector<std::string_view> top_keys{"title", "analysis",  "convergence", "solver",
-                                                      "mesh",  "materials", "domains",     "constraints",
-                                                      "loads", "output",    "plugins", "contact_laws", "interfaces"};
+  static const std::vector<std::string_view> top_keys{
+      "title",       "analysis", "convergence", "solver",  "mesh",         "materials", "domains",
+      "constraints", "loads",    "output",      "plugins", "contact_laws", "interfaces"};
   for (auto&& [key, value] : root) {
     const std::string k(key.str());
     if (std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end()) {
