@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -232,36 +231,50 @@ public:
   struct Record {
     bool recovery = false;
     int substeps = 0;
-    std::vector<std::uint8_t> unload;
+    std::vector<double> alpha; ///< per substep: the fraction integrated on the E_ur branch
   };
 
-  /// Incremental update: `m` substeps of Heun's method (explicit trapezoidal rule) with the
-  /// branch (E_t or E_ur) chosen per substep from an E_ur trial; tension cut-off after each.
+  /// One Heun step (explicit trapezoidal rule) of the hypoelastic law on one branch.
+  [[nodiscard]] Vec6 heun(const Vec6& s, const Vec6& de, bool unloading) const {
+    const Moduli m0 = moduli(point(s), unloading);
+    const Vec6 ds0 = stiffness_kg(m0.K, m0.G) * de;
+    const Moduli m1 = moduli(point(s + ds0), unloading);
+    return s + 0.5 * (ds0 + stiffness_kg(m1.K, m1.G) * de);
+  }
+
+  /// Incremental update: substeps of Heun's method. Per substep an E_ur trial decides the branch:
+  /// below the historical maximum of the criterion it is unloading-reloading (E_ur); a substep that
+  /// crosses the maximum is split where the trial reaches it (linear in the criterion), the rest on
+  /// the loading branch (E_t). Tension cut-off after each substep.
   [[nodiscard]] Vec6 incremental(const Vec6& stress_n, const Vec6& de, std::span<double> h, Record& rec,
                                  bool replay) const {
     if (!replay) {
       rec.recovery = false;
       const double big = de.cwiseAbs().maxCoeff();
       rec.substeps = std::clamp(static_cast<int>(std::ceil(big / c_.max_substep_strain)), 1, 100000);
-      rec.unload.assign(static_cast<std::size_t>(rec.substeps), 0);
+      rec.alpha.assign(static_cast<std::size_t>(rec.substeps), 0.0);
     }
     const Vec6 dd = de / rec.substeps;
     Vec6 s = stress_n;
     for (int k = 0; k < rec.substeps; ++k) {
-      const Point p0 = point(s);
-      bool un;
+      double alpha;
       if (replay)
-        un = rec.unload[static_cast<std::size_t>(k)] != 0;
+        alpha = rec.alpha[static_cast<std::size_t>(k)];
       else {
+        const Point p0 = point(s);
         const Moduli mu = moduli(p0, true);
-        const Vec6 trial = s + stiffness_kg(mu.K, mu.G) * dd;
-        un = below(criterion(point(trial)), criterion_max(h));
-        rec.unload[static_cast<std::size_t>(k)] = un ? 1 : 0;
+        const double cmax = criterion_max(h), c0 = criterion(p0);
+        const double ct = criterion(point(s + stiffness_kg(mu.K, mu.G) * dd));
+        if (below(ct, cmax))
+          alpha = 1.0;
+        else if (below(c0, cmax) && ct > c0)
+          alpha = std::clamp((cmax - c0) / (ct - c0), 0.0, 1.0);
+        else
+          alpha = 0.0;
+        rec.alpha[static_cast<std::size_t>(k)] = alpha;
       }
-      const Moduli m0 = moduli(p0, un);
-      const Vec6 ds0 = stiffness_kg(m0.K, m0.G) * dd;
-      const Moduli m1 = moduli(point(s + ds0), un);
-      s += 0.5 * (ds0 + stiffness_kg(m1.K, m1.G) * dd);
+      if (alpha > 0.0) s = heun(s, alpha * dd, true);
+      if (alpha < 1.0) s = heun(s, (1.0 - alpha) * dd, false);
       if (c_.tension_cutoff) s = cut_tension(s);
       const Point pe = point(s);
       h[0] = std::max(h[0], pe.S);
@@ -270,16 +283,19 @@ public:
     return s;
   }
 
-  /// Lateral strain (expansion positive) of a CID path at major compressive strain e1 for
-  /// nu_i = f and parameter d: the integral of nu_t = f/(1 - d e)^2 (2.32)-(2.34), with nu_t capped
-  /// at nu_max as the incremental update caps it.
-  [[nodiscard]] double lateral(double e1, double f, double d) const {
+  /// Lateral strain (expansion positive) of a CID path at major compressive strain e1 and the
+  /// sigma_3 of `pt`: the integral of nu_t = f/(1 - d e)^2 (2.32)-(2.34), with nu_t = nu_max from
+  /// where it reaches nu_max or from failure (e1 = q_f/(E_i (1 - R_f))) on, as the incremental
+  /// update does.
+  [[nodiscard]] double lateral(double e1, const Point& pt) const {
+    const double f = pt.f, d = pt.P.d;
     if (f <= 0.0) return 0.0;
     double es = 1e300; // strain where nu_t reaches nu_max
     if (f >= c_.nu_max)
       es = 0.0;
     else if (d > 0.0)
       es = (1.0 - std::sqrt(f / c_.nu_max)) / d;
+    if (pt.P.R_f < 1.0) es = std::min(es, pt.q_f / (pt.E_i * (1.0 - pt.P.R_f)));
     if (e1 <= es) return f * e1 / (1.0 - d * e1);
     return f * es / (1.0 - d * es) + c_.nu_max * (e1 - es);
   }
@@ -297,7 +313,8 @@ public:
 
   /// The author's stress recovery (4.46)-(4.49): sigma_3 from the ratio of the lateral to the
   /// major principal strain, sigma_1 - sigma_3 from the hyperbola, sigma_2 = sigma_3, principal
-  /// directions of the strain. Returns false when the strain has no major compression.
+  /// directions of the strain. Returns false when the strain has no major compression or its
+  /// lateral-to-major ratio corresponds to no sigma_3 in (sigma3_floor p_a, 10^4 p_a).
   [[nodiscard]] bool recover(const Vec6& strain, Vec6& stress) const {
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(strain_tensor(strain));
     const auto& ev = es.eigenvalues(); // ascending, tension positive
@@ -305,28 +322,28 @@ public:
     if (!(e1 > c_.recovery_min_strain)) return false;
     const double elat = 0.5 * (ev[1] + ev[2]);
     // g(sigma_3) = lateral(e1, f(sigma_3), d(sigma_3)) decreases with sigma_3: bisection in ln sigma_3.
-    auto g = [&](double s3) {
-      const Point pt = point_of(s3, s3, s3);
-      return lateral(e1, pt.f, pt.P.d);
-    };
+    auto g = [&](double s3) { return lateral(e1, point_of(s3, s3, s3)); };
     double lo = std::log(c_.sigma3_floor * c_.p_a), hi = std::log(1e4 * c_.p_a);
-    double s3;
-    if (elat >= g(std::exp(lo)))
-      s3 = std::exp(lo);
-    else if (elat <= g(std::exp(hi)))
-      s3 = std::exp(hi);
-    else {
-      for (int it = 0; it < 200 && hi - lo > 1e-14; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        (g(std::exp(mid)) > elat ? lo : hi) = mid;
-      }
-      s3 = std::exp(0.5 * (lo + hi));
+    // Outside (g(hi), g(lo)) the ratio belongs to no sigma_3 of the law (e.g. a lateral
+    // contraction, or an expansion beyond nu_max): no recovery, the caller integrates instead.
+    if (!(elat < g(std::exp(lo)) && elat > g(std::exp(hi)))) return false;
+    for (int it = 0; it < 200 && hi - lo > 1e-14; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (g(std::exp(mid)) > elat ? lo : hi) = mid;
     }
+    const double s3 = std::exp(0.5 * (lo + hi));
     const Point pt = point_of(s3, s3, s3);
     const double q = hyperbola(pt, e1);
     const Eigen::Vector3d n1 = es.eigenvectors().col(0);
     const Eigen::Matrix3d sc = s3 * Eigen::Matrix3d::Identity() + q * n1 * n1.transpose();
-    stress = -stress_voigt(sc);
+    // The thesis takes sigma_2 = sigma_3. To keep a shear stiffness in the lateral plane (without
+    // it the stress would not depend on the lateral shear strains), the lateral strain deviator
+    // adds 2 G_t times itself, G_t = E_t/(2(1 + nu_t)) at the recovered state; it vanishes for
+    // the axisymmetric states of a triaxial test, so sigma_2 = sigma_3 there.
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n1 * n1.transpose();
+    const Eigen::Matrix3d lat = P * strain_tensor(strain) * P;
+    const Moduli mo = moduli(point_of(s3 + q, s3, s3 + q / 3.0), false);
+    stress = -stress_voigt(sc) + stress_voigt(2.0 * mo.G * (lat - 0.5 * lat.trace() * P));
     return true;
   }
 
@@ -383,7 +400,7 @@ public:
     // The tangent of what the update did: central differences of the update with the branch
     // decisions (recovery or incremental, substep count, E_t or E_ur per substep) frozen.
     std::vector<double> hp(out.history.size());
-    const double step = 1e-8;
+    const double step = 1e-7;
     for (int j = 0; j < 6; ++j) {
       Vec6 dp = in.dstrain, dm = in.dstrain;
       dp[j] += step;

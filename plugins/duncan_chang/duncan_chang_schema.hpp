@@ -128,9 +128,11 @@ inline Constants read(const Params& p, Family fam) {
   std::string longest;
   for (const auto& name : needed) {
     const auto& v = p.real_list(name);
-    if (v.empty())
-      fail(name, name + " is required for form = \"" +
-                     (c.form == Form::E_nu ? std::string("E_nu") : std::string("E_B")) + "\"");
+    if (v.empty()) {
+      if (fam == Family::variable_kg) fail(name, name + " must not be an empty list");
+      fail(p.where(name).known() ? name : std::string("form"),
+           name + " is required for form = \"" + (c.form == Form::E_nu ? "E_nu" : "E_B") + "\"");
+    }
     if (v.size() > 1 && N == 1)
       N = v.size(), longest = name;
     else if (v.size() > 1 && v.size() != N)

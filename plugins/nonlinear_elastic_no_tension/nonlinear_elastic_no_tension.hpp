@@ -76,7 +76,7 @@ public:
     int m = 0;
     out.stress = integrate(in.stress_n, in.dstrain, m);
     // The tangent of the update: central differences with the substep count frozen.
-    const double h = 1e-8;
+    const double h = 1e-7;
     for (int j = 0; j < 6; ++j) {
       Vec6 dp = in.dstrain, dm = in.dstrain;
       dp[j] += h;
