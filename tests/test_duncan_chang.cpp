@@ -17,6 +17,10 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -457,4 +461,43 @@ TEST_CASE("nonlinear_elastic_no_tension: isotropic compression, tension cut-off,
   const Vec6 g = (Vec6() << -2e-4, -5e-4, -1e-4, 1e-4, 5e-5, -3e-5).finished();
   CHECK(tangent_error(m, triaxial_stress(p0, 20.0), Vec6::Zero(), {}, g) < 1e-5);
   CHECK(tangent_error(m, triaxial_stress(p0, 0.0), Vec6::Zero(), {}, de + g) < 1e-5);
+}
+
+TEST_CASE("duncan_chang: the loess triaxial inputs through `stratum point` follow the M6 closed form",
+          "[duncan_chang][cli]") {
+  // inputs/point/loess_duncan_chang_s*.toml: 300 steps to 15% axial strain with the sets (a)/(b).
+  const std::string dir = std::string(STRATUM_BINARY_DIR) + "/tests/duncan_chang_cli";
+  std::filesystem::create_directories(dir);
+  for (const int s3 : {25, 40, 80, 200, 300, 400}) {
+    char name[64];
+    std::snprintf(name, sizeof name, "loess_duncan_chang_s%03d", s3);
+    const std::string in = std::string(STRATUM_SOURCE_DIR) + "/inputs/point/" + name + ".toml";
+    const std::string csv = dir + "/" + name + ".csv";
+    const std::string cmd =
+        std::string(STRATUM_EXE) + " point " + in + " --out " + csv + " > " + csv + ".log 2>&1";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    std::ifstream f(csv);
+    std::string line;
+    std::getline(f, line); // header; eps_axial, eps_vol, p, q are the last four columns
+    const dc::Set set = s3 <= 100 ? loess_a() : loess_b();
+    const double qf = q_f(set, s3), ef = qf / (E_i(set, s3) * (1.0 - set.R_f));
+    double worst = 0.0, last_e = 0.0, last_q = 0.0;
+    int rows = 0;
+    while (std::getline(f, line)) {
+      std::vector<double> v;
+      std::stringstream ss(line);
+      for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
+      REQUIRE(v.size() == 18);
+      last_e = v[14], last_q = v[17];
+      const double expect =
+          last_e <= ef ? hyperbola(set, s3, last_e) : qf + 1e-3 * E_i(set, s3) * (last_e - ef);
+      worst = std::max(worst, std::abs(last_q - expect) / qf);
+      ++rows;
+    }
+    REPORT("sigma_3 = " << s3 << " kPa: q_f = " << qf << " kPa at eps_a = " << ef << ", q(15%) = " << last_q
+                        << ", max |q - closed form| / q_f = " << worst);
+    CHECK(rows == 301);
+    CHECK(last_e == Approx(0.15).epsilon(1e-12));
+    CHECK(worst < 1e-6);
+  }
 }
