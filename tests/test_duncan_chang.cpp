@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -60,7 +61,7 @@ dc::Constants constants(dc::Update u = dc::Update::incremental, dc::Form f = dc:
 
 // Closed forms of M6 at constant sigma_3 (compression positive).
 double q_f(const dc::Set& s, double s3) {
-  const double phi = s.phi * M_PI / 180.0;
+  const double phi = s.phi * std::numbers::pi / 180.0;
   return 2.0 * (s.c * std::cos(phi) + s3 * std::sin(phi)) / (1.0 - std::sin(phi));
 }
 double E_i(const dc::Set& s, double s3) { return s.K * 100.0 * std::pow(s3 / 100.0, s.n); }
@@ -180,8 +181,19 @@ TEST_CASE("duncan_chang: stress recovery (4.46)-(4.49) matches fine-step increme
                                                                         << ", lateral strain: " << worst_e);
   CHECK(worst_s < 1e-3);
   CHECK(worst_e < 1e-3);
-  // And the recovery alone: the stress of a CID strain state (2.32) at sigma_3 = 60 kPa.
+  // Strain control: the recovered stress of every strain state of the incremental run (no mixed
+  // control involved, so sigma_3 comes from the strain ratio alone).
   const dc::DuncanChang m(constants(dc::Update::recovery));
+  double worst_direct = 0.0;
+  for (std::size_t i = 1; i < inc.rows.size(); ++i) {
+    Vec6 sr;
+    REQUIRE(m.recover(inc.rows[i].strain, sr));
+    worst_direct = std::max(worst_direct, (sr - inc.rows[i].stress).cwiseAbs().maxCoeff() /
+                                              inc.rows[i].stress.cwiseAbs().maxCoeff());
+  }
+  REPORT("recovered stress of the incremental strains: max difference / |stress| = " << worst_direct);
+  CHECK(worst_direct < 1e-3);
+  // And the recovery alone: the stress of a CID strain state (2.32) at sigma_3 = 60 kPa.
   const double s = 60.0, e1 = 0.004, f = 0.18 - 0.22 * std::log10(0.6);
   const double lat = f * e1 / (1.0 - 20.0 * e1);
   Vec6 sig;

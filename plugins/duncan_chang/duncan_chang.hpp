@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -156,7 +157,7 @@ public:
     pt.P = c_.at(pt.s3eff);
     const double lg = std::log10(pt.s3eff / c_.p_a);
     const double phi_deg = std::clamp(pt.P.phi - pt.P.delta_phi * lg, 0.0, 89.0);
-    pt.phi = phi_deg * M_PI / 180.0;
+    pt.phi = phi_deg * std::numbers::pi / 180.0;
     const double sp = std::sin(pt.phi);
     pt.q_f = 2.0 * (pt.P.c * std::cos(pt.phi) + pt.s3eff * sp) / (1.0 - sp);
     pt.S = pt.q_f > 0.0 ? pt.q / pt.q_f : (pt.q > 0.0 ? 1e30 : 0.0);
