@@ -269,6 +269,42 @@ TEST_CASE("duncan_chang: F_sr (4.50) and the maximum-deviator criterion", "[dunc
   }
 }
 
+TEST_CASE("duncan_chang: F_sr and max-deviator disagree on a point path where sigma_3 grows",
+          "[duncan_chang]") {
+  // Triaxial loading at 100 kPa to 1% axial strain (S = 0.85), then all stresses controlled:
+  // sigma_3 + 50 kPa and q + 1 kPa. q passes its maximum (max-deviator: loading, E_t, nu_t),
+  // F_sr falls (F_sr: unloading, E_ur and nu_i). The stress increment is isotropic up to 1 kPa,
+  // so the volumetric strain is the integral of dp/K along the path.
+  const std::string path2 =
+      "[[paths]]\ntype = \"mixed\"\ncontrol = [\"stress\", \"stress\", \"stress\", \"stress\", "
+      "\"stress\", \"stress\"]\nincrement = [-50.0, -51.0, -50.0, 0.0, 0.0, 0.0]\nsteps = 100\n";
+  double ev[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string crit = k == 0 ? "F_sr" : "max_deviator";
+    const auto run =
+        run_point(point_file(loess_a_toml + "unloading = \"" + crit + "\"\n", 100.0, 0.01, 100) + path2);
+    REQUIRE(run.outcome.ok());
+    const auto &a = run.rows[100], &b = run.rows.back();
+    ev[k] = -(b.strain - a.strain).head<3>().sum();
+    CHECK(q_of(b) == Approx(q_of(a) + 1.0).epsilon(1e-9));
+  }
+  // F_sr: the integral of dp/K_ur(sigma_3), K_ur = E_ur/(3 (1 - 2 nu_i)), by Simpson's rule; the
+  // deviator change of 1 kPa adds 1/3 kPa to p.
+  const int N = 2000;
+  double integral = 0.0;
+  for (int j = 0; j <= N; ++j) {
+    const double s3 = 100.0 + 50.0 * j / N;
+    const double nu = 0.18 - 0.22 * std::log10(s3 / 100.0);
+    const double K = 800.0 * 100.0 * std::pow(s3 / 100.0, 0.82) / (3.0 * (1.0 - 2.0 * nu));
+    integral += (j == 0 || j == N ? 1.0 : (j % 2 ? 4.0 : 2.0)) / K;
+  }
+  integral *= (50.0 / N / 3.0) * (50.0 + 1.0 / 3.0) / 50.0;
+  REPORT("volumetric strain of the sigma_3 increase: F_sr " << ev[0] << " (E_ur closed form " << integral
+                                                            << "), max-deviator " << ev[1]);
+  CHECK(ev[0] == Approx(integral).epsilon(1e-4));
+  CHECK(ev[1] > 2.0 * ev[0]); // on the loading branch the soil is far softer
+}
+
 TEST_CASE("duncan_chang: the rule between the loess sets (a) and (b)", "[duncan_chang]") {
   auto c = constants();
   c.levels = {100.0, 200.0};
