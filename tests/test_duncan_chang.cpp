@@ -372,6 +372,9 @@ TEST_CASE("duncan_chang: the rule between the loess sets (a) and (b)", "[duncan_
   std::string rf = loess;
   rf.replace(rf.find("R_f = 0.8"), 9, "R_f = [0.8, 1.2]");
   CHECK(message(rf) == "m.toml:4:13 [material] R_f contains 1.2, outside (0, 1]");
+  std::string rf1 = loess;
+  rf1.replace(rf1.find("R_f = 0.8"), 9, "R_f = 1.2");
+  CHECK(message(rf1) == "m.toml:4:7 [material] R_f = 1.2 is outside (0, 1]");
 }
 
 TEST_CASE("duncan_chang: tension and failure regimes", "[duncan_chang]") {
