@@ -121,6 +121,9 @@ double tangent_error(const stratum::Material& m, const Vec6& s, const Vec6& e, c
   return (base.tangent - fd).cwiseAbs().maxCoeff() / base.tangent.cwiseAbs().maxCoeff();
 }
 
+// History of a duncan_chang point: F_sr max, q max, and a zero recovery origin.
+std::vector<double> hist(double S, double q) { return {S, q, 0, 0, 0, 0, 0, 0}; }
+
 Vec6 triaxial_stress(double s3, double q) { return (Vec6() << -s3, -s3 - q, -s3, 0, 0, 0).finished(); }
 
 } // namespace
@@ -203,6 +206,45 @@ TEST_CASE("duncan_chang: stress recovery (4.46)-(4.49) matches fine-step increme
   CHECK(sig[0] - sig[1] == Approx(hyperbola(loess_a(), s, e1)).epsilon(1e-10));
 }
 
+TEST_CASE("duncan_chang: recovery from an anisotropic initial stress (recovery_origin)", "[duncan_chang]") {
+  // K0 = 0.5: sigma_v = 100 kPa (axial, y), sigma_h = 50 kPa. With recovery_origin =
+  // "initial_stress" the strains count from the CID state of the initial stress, eps_1,0 =
+  // q0/(E_i (1 - R_f S0)); a drained triaxial path then follows q = hyperbola(eps_1,0 + eps_a),
+  // as the incremental update does from the same stress. With "zero" (the thesis as printed) the
+  // initial deviator is lost at the first recovered step.
+  const dc::Set a = loess_a();
+  const double s3 = 50.0, q0 = 50.0, S0 = q0 / q_f(a, s3);
+  const double e10 = q0 / (E_i(a, s3) * (1.0 - a.R_f * S0));
+  auto file = [&](const std::string& extra) {
+    return "[material]\nmodel = \"duncan_chang\"\n" + loess_a_toml + extra +
+           "[initial]\nstress = [-50.0, -100.0, -50.0, 0.0, 0.0, 0.0]\n[[paths]]\ntype = "
+           "\"triaxial_drained\"\naxial_strain = -0.01\nsteps = 100\n";
+  };
+  for (const char* upd : {"recovery", "incremental"}) {
+    const auto run = run_point(file(std::string("update = \"") + upd + "\"\nmax_substep_strain = 1e-5\n"));
+    REQUIRE(run.outcome.ok());
+    double worst = 0.0;
+    for (const auto& r : run.rows)
+      worst = std::max(worst, std::abs(q_of(r) - hyperbola(a, s3, e10 + eps_a(r))) / q_f(a, s3));
+    REPORT(upd << " from K0 = 0.5: max |q - hyperbola(eps_1,0 + eps_a)| / q_f = " << worst);
+    CHECK(worst < 1e-5);
+  }
+  // The zero increment returns the initial stress.
+  auto c = constants(dc::Update::recovery);
+  const dc::DuncanChang m(c);
+  const Vec6 s0 = (Vec6() << -50.0, -100.0, -50.0, 0, 0, 0).finished();
+  std::vector<double> h(8);
+  m.init_history(s0, h);
+  CHECK(-h[3] == Approx(e10).epsilon(1e-14));
+  const Result r0 = update(m, s0, Vec6::Zero(), h, Vec6::Zero());
+  CHECK((r0.stress - s0).cwiseAbs().maxCoeff() < 1e-9 * 100.0);
+  // recovery_origin = "zero": after the first step q is the hyperbola of eps_a alone.
+  const auto z = run_point(file("update = \"recovery\"\nrecovery_origin = \"zero\"\n"));
+  REQUIRE(z.outcome.ok());
+  CHECK(q_of(z.rows[1]) == Approx(hyperbola(a, s3, eps_a(z.rows[1]))).epsilon(1e-6));
+  CHECK(q_of(z.rows[1]) < 0.2 * q0);
+}
+
 TEST_CASE("duncan_chang: unloading and reloading follow E_ur (2.40)", "[duncan_chang]") {
   // Load to 1% axial strain at sigma_3 = 100, unload by 0.1% (q from 160 to 80 kPa), reload to 1.5%.
   const double s3 = 100.0;
@@ -233,7 +275,7 @@ TEST_CASE("duncan_chang: F_sr (4.50) and the maximum-deviator criterion", "[dunc
   const dc::Set a = loess_a();
   const double s3 = 100.0, q = 0.6 * q_f(a, s3);
   const Vec6 s = triaxial_stress(s3, q);
-  const std::vector<double> h{0.6, q};
+  const std::vector<double> h = hist(0.6, q);
   const Vec6 de = (Vec6() << -1e-6, -1.1e-6, -1e-6, 0, 0, 0).finished();
   const double E_t = E_i(a, s3) * std::pow(1.0 - a.R_f * 0.6, 2), E_ur = 800.0 * 100.0;
   const double nu_i = 0.18, A = a.d * q / (E_i(a, s3) * (1.0 - a.R_f * 0.6));
@@ -390,7 +432,7 @@ TEST_CASE("duncan_chang: tension and failure regimes", "[duncan_chang]") {
   // moduli use sigma_3 >= 0.01 p_a.
   const dc::DuncanChang m(constants());
   Vec6 s = triaxial_stress(20.0, 0.0), e = Vec6::Zero();
-  std::vector<double> h{0.0, 0.0};
+  std::vector<double> h = hist(0.0, 0.0);
   const Vec6 de = (Vec6() << -0.0005, 0.003, -0.0005, 0, 0, 0).finished();
   for (int k = 0; k < 5; ++k) {
     const Result r = update(m, s, e, h, de);
@@ -412,7 +454,7 @@ TEST_CASE("duncan_chang: finite-difference check of the tangent", "[duncan_chang
   const double q = 0.5 * q_f(a, 100.0);
   const Vec6 s = triaxial_stress(100.0, q);
   const Vec6 de = (Vec6() << 2e-4, -7.5e-4, 1.5e-4, 1e-4, -5e-5, 3e-5).finished();
-  const std::vector<double> h{0.5, q};
+  const std::vector<double> h = hist(0.5, q);
   for (const auto form : {dc::Form::E_nu, dc::Form::E_B, dc::Form::K_G}) {
     auto c = constants(dc::Update::incremental, form);
     c.sets[0].K_b = 300, c.sets[0].m = 0.5, c.sets[0].nu = 0.3;
@@ -433,7 +475,7 @@ TEST_CASE("duncan_chang: finite-difference check of the tangent", "[duncan_chang
     CHECK((r0.tangent - dc::stiffness_kg(mo.K, mo.G)).cwiseAbs().maxCoeff() <
           1e-6 * r0.tangent.cwiseAbs().maxCoeff());
     // Strictly inside the unloading region the map is smooth at a zero increment too.
-    CHECK(tangent_error(m, s2, Vec6::Zero(), {0.7, 2.0 * q}, Vec6::Zero()) < 1e-5);
+    CHECK(tangent_error(m, s2, Vec6::Zero(), hist(0.7, 2.0 * q), Vec6::Zero()) < 1e-5);
   }
   {
     // E_nu loading moduli in closed form: E_t (2.31) and nu_t (2.35) at S = 0.5, sigma_3 = 100.
@@ -449,7 +491,7 @@ TEST_CASE("duncan_chang: finite-difference check of the tangent", "[duncan_chang
   const Vec6 e = (Vec6() << lat, -e1, lat, 0, 0, 0).finished();
   Vec6 s0;
   REQUIRE(m.recover(e, s0));
-  const std::vector<double> h0{m.point(s0).S, m.point(s0).q};
+  const std::vector<double> h0 = hist(m.point(s0).S, m.point(s0).q);
   const double err = tangent_error(m, s0, e, h0, 0.1 * de);
   REPORT("recovery: tangent error " << err);
   CHECK(err < 1e-5);
@@ -483,7 +525,7 @@ TEST_CASE("variable_kg: K from E_i, G from E_t on a drained triaxial path", "[va
   const dc::DuncanChang m(c);
   const Vec6 s = triaxial_stress(s3, 0.5 * qf);
   const Vec6 de = (Vec6() << 0, 1e-6, 0, 0, 0, 0).finished();
-  const Result r = update(m, s, Vec6::Zero(), {0.5, 0.5 * qf}, de);
+  const Result r = update(m, s, Vec6::Zero(), hist(0.5, 0.5 * qf), de);
   const Vec6 expect = s + stratum::isotropic_stiffness(80000.0, nu) * de;
   CHECK((r.stress - expect).cwiseAbs().maxCoeff() < 1e-4);
 }

@@ -58,8 +58,9 @@ struct Constants {
   double max_substep_strain = 1e-4;  ///< incremental update: largest strain component per substep
   double recovery_min_strain = 1e-6; ///< recovery needs a major compressive strain above this
   bool tension_cutoff = true;
-  std::vector<double> levels; ///< sigma_3 of the sets, increasing (empty: one set)
-  std::vector<Set> sets;      ///< one per level (one when levels is empty)
+  bool origin_at_initial_stress = true; ///< recovery: strains count from the CID state of the initial stress
+  std::vector<double> levels;           ///< sigma_3 of the sets, increasing (empty: one set)
+  std::vector<Set> sets;                ///< one per level (one when levels is empty)
 
   /// The parameter set at sigma_3 (kPa): the first set below levels[0], the last above the last
   /// level, linear interpolation of every parameter in sigma_3 in between.
@@ -132,12 +133,41 @@ public:
   explicit DuncanChang(Constants c) : c_(std::move(c)) {}
 
   [[nodiscard]] const Constants& constants() const { return c_; }
-  [[nodiscard]] int history_size() const override { return 2; }
-  /// history[0]: largest stress level F_sr reached; history[1]: largest deviator q reached.
+  [[nodiscard]] int history_size() const override { return 8; }
+  /// history[0]: largest stress level F_sr reached; history[1]: largest deviator q reached;
+  /// history[2..7]: the strain origin of the recovery (Voigt, tension positive): the strain of a
+  /// CID path from an isotropic state to the initial stress (recovery_origin = "initial_stress"),
+  /// or zero.
   void init_history(const Vec6& stress, std::span<double> h) const override {
     const Point pt = point(stress);
     h[0] = pt.S;
     h[1] = pt.q;
+    const Vec6 e0 = c_.update == Update::recovery && c_.origin_at_initial_stress ? cid_strain(stress)
+                                                                                 : Vec6::Zero().eval();
+    for (int i = 0; i < 6; ++i) h[static_cast<std::size_t>(2 + i)] = e0[i];
+  }
+
+  /// The strain (tension positive) that a CID path from an isotropic state at sigma_3 reaches at
+  /// the given stress: eps_1 from the hyperbola (2.26) inverted, eps_1 = q / (E_i (1 - R_f S)) with
+  /// S at most 0.99, the lateral strain from (2.32), directions of the principal stresses.
+  [[nodiscard]] Vec6 cid_strain(const Vec6& stress) const {
+    const Point pt = point(stress);
+    if (!(pt.q > 0.0)) return Vec6::Zero();
+    const double S = std::min(pt.S, 0.99), q = S * pt.q_f;
+    const double e1 = q / (pt.E_i * (1.0 - pt.P.R_f * S));
+    const double el = lateral(e1, pt);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(stress_tensor(stress));
+    const Eigen::Vector3d n1 = es.eigenvectors().col(0); // the major compression
+    const Eigen::Matrix3d e =
+        -e1 * n1 * n1.transpose() + el * (Eigen::Matrix3d::Identity() - n1 * n1.transpose());
+    Vec6 v = stress_voigt(e);
+    v.tail<3>() *= 2.0; // engineering shear
+    return v;
+  }
+  [[nodiscard]] static Vec6 origin(std::span<const double> h) {
+    Vec6 e;
+    for (int i = 0; i < 6; ++i) e[i] = h[static_cast<std::size_t>(2 + i)];
+    return e;
   }
   /// The tangent of a finite step is not symmetric in general (stress-dependent moduli, recovery).
   [[nodiscard]] bool symmetric_tangent() const override { return false; }
@@ -360,7 +390,7 @@ public:
   /// The whole update for a strain increment: stress and history; `rec` says what was done.
   [[nodiscard]] Vec6 evaluate(const MaterialInput& in, const Vec6& de, std::span<double> h, Record& rec,
                               bool replay) const {
-    for (std::size_t i = 0; i < 2; ++i) h[i] = in.history_n[i];
+    for (std::size_t i = 0; i < h.size(); ++i) h[i] = in.history_n[i];
     if (!replay && c_.update == Update::recovery) {
       // Loading or unloading: an E_ur trial of the whole increment against the historical maximum.
       Vec6 trial = in.stress_n;
@@ -371,7 +401,7 @@ public:
       rec.recovery = !below(criterion(point(trial)), criterion_max(in.history_n));
       if (rec.recovery) {
         Vec6 s;
-        if (recover(in.strain_n + de, s)) {
+        if (recover(in.strain_n + de + origin(in.history_n), s)) {
           const Point pe = point(s);
           h[0] = std::max(h[0], pe.S);
           h[1] = std::max(h[1], pe.q);
@@ -381,7 +411,8 @@ public:
       }
     } else if (replay && rec.recovery) {
       Vec6 s;
-      if (!recover(in.strain_n + de, s)) s = in.stress_n; // cannot happen near a valid base point
+      if (!recover(in.strain_n + de + origin(in.history_n), s))
+        s = in.stress_n; // cannot happen near a valid base point
       const Point pe = point(s);
       h[0] = std::max(h[0], pe.S);
       h[1] = std::max(h[1], pe.q);

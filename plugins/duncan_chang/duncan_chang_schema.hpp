@@ -86,11 +86,16 @@ inline void declare(Schema& s, Family fam) {
   s.real("max_substep_strain", "-", "incremental update: largest strain component change per substep")
       .greater_than(0.0)
       .defaults_to(1e-4);
-  if (fam == Family::duncan_chang)
+  if (fam == Family::duncan_chang) {
     s.real("recovery_min_strain", "-",
            "recovery: the major compressive strain below which the step is integrated incrementally")
         .greater_than(0.0)
         .defaults_to(1e-6);
+    s.text("recovery_origin", {"initial_stress", "zero"},
+           "recovery: total strains count from the strain of a CID path to the initial stress "
+           "(initial_stress; none for an isotropic one) or from zero (zero, the thesis as printed)")
+        .defaults_to(std::string("initial_stress"));
+  }
 }
 
 /// Reads validated Params into Constants; throws Error (with the location) on inconsistent input.
@@ -107,6 +112,7 @@ inline Constants read(const Params& p, Family fam) {
     c.nu_max = p.real("nu_max");
     c.nu_min = p.real("nu_min");
     c.recovery_min_strain = p.real("recovery_min_strain");
+    c.origin_at_initial_stress = p.text("recovery_origin") == "initial_stress";
     if (c.nu_min > c.nu_max) fail("nu_min", "nu_min must not exceed nu_max");
   } else {
     c.form = Form::K_G;
