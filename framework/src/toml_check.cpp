@@ -69,7 +69,7 @@ std::string expected(const ParamSpec& s) {
   case ParamType::text:
     return "a string";
   case ParamType::real_list:
-    return "an array of numbers";
+    return "an array of numbers (or one number)";
   }
   return "?";
 }
@@ -144,9 +144,16 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
       break;
     }
     case ParamType::real_list: {
+      std::vector<double> xs;
+      if (v->is_number()) { // a single number is a list of one
+        const double x = v->value<double>().value();
+        if (!std::isfinite(x) || !s.in_range(x))
+          throw Error(location(*v), context + " " + s.name + " = " + show(*v) + " is outside " + s.allowed());
+        p.set(s.name, std::vector<double>{x}, where);
+        break;
+      }
       const auto* a = v->as_array();
       if (!a) wrong_type(*v, context, s);
-      std::vector<double> xs;
       for (const auto& e : *a) {
         if (!e.is_number()) wrong_type(*v, context, s);
         const double x = e.value<double>().value();

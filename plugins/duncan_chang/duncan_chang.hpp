@@ -1,0 +1,454 @@
+// The Duncan-Chang hypoelastic model (thesis §2.3, (2.22)-(2.41); digest §3.2-3.3) and its
+// variable K_t/G_t variant (digest §3.2, "K_t, G_t model"), header only so the tests run the
+// plugins' code. See plugins/duncan_chang/README.md for the equations and the choices made.
+//
+// Inside: compression positive (sigma_c = -sigma), principal stresses s1 >= s2 >= s3, q = s1 - s3.
+// At the Material boundary: tension positive, Voigt xx, yy, zz, xy, yz, zx, engineering shear.
+#pragma once
+
+#include "stratum/material.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace stratum::duncan_chang {
+
+enum class Form { E_nu, E_B, K_G };
+enum class Update { recovery, incremental };
+enum class Unloading { F_sr, max_deviator };
+enum class BulkStress { sigma_m, sigma_3 };
+
+/// One parameter set of the hyperbolic model (angles in degrees, stresses in kPa).
+struct Set {
+  double K = 0, n = 0, R_f = 0, phi = 0, c = 0, K_ur = 0, G = 0, F = 0, d = 0, K_b = 0, m = 0, delta_phi = 0,
+         nu = 0;
+};
+
+/// The names of the level-dependent parameters and their members (the order of the schema).
+inline constexpr std::array<std::pair<const char*, double Set::*>, 13> set_members{
+    {{"K", &Set::K},
+     {"n", &Set::n},
+     {"R_f", &Set::R_f},
+     {"phi", &Set::phi},
+     {"c", &Set::c},
+     {"K_ur", &Set::K_ur},
+     {"G", &Set::G},
+     {"F", &Set::F},
+     {"d", &Set::d},
+     {"K_b", &Set::K_b},
+     {"m", &Set::m},
+     {"delta_phi", &Set::delta_phi},
+     {"nu", &Set::nu}}};
+
+struct Constants {
+  Form form = Form::E_nu;
+  Update update = Update::incremental;
+  Unloading unloading = Unloading::F_sr;
+  BulkStress bulk_stress = BulkStress::sigma_m;
+  double p_a = 100.0;
+  double nu_min = 0.0, nu_max = 0.49;
+  double sigma3_floor = 0.01;        ///< smallest sigma_3 used in the moduli, as a fraction of p_a
+  double residual = 1e-3;            ///< E_t / E_i at and beyond failure (stress level >= 1)
+  double max_substep_strain = 1e-4;  ///< incremental update: largest strain component per substep
+  double recovery_min_strain = 1e-6; ///< recovery needs a major compressive strain above this
+  bool tension_cutoff = true;
+  bool origin_at_initial_stress = true; ///< recovery: strains count from the CID state of the initial stress
+  std::vector<double> levels;           ///< sigma_3 of the sets, increasing (empty: one set)
+  std::vector<Set> sets;                ///< one per level (one when levels is empty)
+
+  /// The parameter set at sigma_3 (kPa): the first set below levels[0], the last above the last
+  /// level, linear interpolation of every parameter in sigma_3 in between.
+  [[nodiscard]] Set at(double s3) const {
+    if (sets.size() == 1 || s3 <= levels.front()) return sets.front();
+    if (s3 >= levels.back()) return sets.back();
+    std::size_t i = 0;
+    while (s3 >= levels[i + 1]) ++i;
+    const double t = (s3 - levels[i]) / (levels[i + 1] - levels[i]);
+    Set s;
+    for (const auto& [name, mem] : set_members) s.*mem = (1.0 - t) * sets[i].*mem + t * sets[i + 1].*mem;
+    return s;
+  }
+};
+
+/// Isotropic stiffness from bulk and shear moduli (engineering shear strains).
+[[nodiscard]] inline Mat6 stiffness_kg(double K, double G) {
+  Mat6 D = Mat6::Zero();
+  D.topLeftCorner<3, 3>().setConstant(K - 2.0 * G / 3.0);
+  for (int i = 0; i < 3; ++i) D(i, i) = K + 4.0 * G / 3.0;
+  for (int i = 3; i < 6; ++i) D(i, i) = G;
+  return D;
+}
+
+[[nodiscard]] inline Eigen::Matrix3d stress_tensor(const Vec6& s) {
+  Eigen::Matrix3d t;
+  t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
+  return t;
+}
+[[nodiscard]] inline Eigen::Matrix3d strain_tensor(const Vec6& e) {
+  Eigen::Matrix3d t;
+  t << e[0], 0.5 * e[3], 0.5 * e[5], 0.5 * e[3], e[1], 0.5 * e[4], 0.5 * e[5], 0.5 * e[4], e[2];
+  return t;
+}
+[[nodiscard]] inline Vec6 stress_voigt(const Eigen::Matrix3d& t) {
+  Vec6 s;
+  s << t(0, 0), t(1, 1), t(2, 2), t(0, 1), t(1, 2), t(0, 2);
+  return s;
+}
+
+/// The compression-positive principal stresses of a tension-positive stress: s1 >= s2 >= s3.
+struct Principal {
+  double s1 = 0, s2 = 0, s3 = 0;
+};
+[[nodiscard]] inline Principal principal(const Vec6& sigma) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(stress_tensor(sigma), Eigen::EigenvaluesOnly);
+  const auto& v = es.eigenvalues(); // ascending, tension positive
+  return {-v[0], -v[1], -v[2]};
+}
+
+/// Everything the moduli need at one stress.
+struct Point {
+  double s1 = 0, s3 = 0, s3eff = 0, sm = 0, q = 0;
+  Set P;
+  double phi = 0;  ///< radians, (2.41)
+  double q_f = 0;  ///< (2.28)
+  double S = 0;    ///< stress level F_sr (4.50)
+  double E_i = 0;  ///< (2.27)
+  double E_ur = 0; ///< (2.40)
+  double f = 0;    ///< nu_i = G - F log10(sigma_3/p_a) (2.33), bounded
+};
+
+/// Bulk and shear tangent moduli.
+struct Moduli {
+  double K = 0, G = 0, E = 0, nu = 0;
+};
+
+class DuncanChang final : public Material {
+public:
+  explicit DuncanChang(Constants c) : c_(std::move(c)) {}
+
+  [[nodiscard]] const Constants& constants() const { return c_; }
+  [[nodiscard]] int history_size() const override { return 8; }
+  /// history[0]: largest stress level F_sr reached; history[1]: largest deviator q reached;
+  /// history[2..7]: the strain origin of the recovery (Voigt, tension positive): the strain of a
+  /// CID path from an isotropic state to the initial stress (recovery_origin = "initial_stress"),
+  /// or zero.
+  void init_history(const Vec6& stress, std::span<double> h) const override {
+    const Point pt = point(stress);
+    h[0] = pt.S;
+    h[1] = pt.q;
+    const Vec6 e0 = c_.update == Update::recovery && c_.origin_at_initial_stress ? cid_strain(stress)
+                                                                                 : Vec6::Zero().eval();
+    for (int i = 0; i < 6; ++i) h[static_cast<std::size_t>(2 + i)] = e0[i];
+  }
+
+  /// The strain (tension positive) that a CID path from an isotropic state at sigma_3 reaches at
+  /// the given stress: eps_1 from the hyperbola (2.26) inverted, eps_1 = q / (E_i (1 - R_f S)) with
+  /// S at most 0.99, the lateral strain from (2.32), directions of the principal stresses.
+  [[nodiscard]] Vec6 cid_strain(const Vec6& stress) const {
+    const Point pt = point(stress);
+    if (!(pt.q > 0.0)) return Vec6::Zero();
+    const double S = std::min(pt.S, 0.99), q = S * pt.q_f;
+    const double e1 = q / (pt.E_i * (1.0 - pt.P.R_f * S));
+    const double el = lateral(e1, pt);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(stress_tensor(stress));
+    const Eigen::Vector3d n1 = es.eigenvectors().col(0); // the major compression
+    const Eigen::Matrix3d e =
+        -e1 * n1 * n1.transpose() + el * (Eigen::Matrix3d::Identity() - n1 * n1.transpose());
+    Vec6 v = stress_voigt(e);
+    v.tail<3>() *= 2.0; // engineering shear
+    return v;
+  }
+  [[nodiscard]] static Vec6 origin(std::span<const double> h) {
+    Vec6 e;
+    for (int i = 0; i < 6; ++i) e[i] = h[static_cast<std::size_t>(2 + i)];
+    return e;
+  }
+  /// The tangent of a finite step is not symmetric in general (stress-dependent moduli, recovery).
+  [[nodiscard]] bool symmetric_tangent() const override { return false; }
+
+  /// The state quantities of the model at a tension-positive stress.
+  [[nodiscard]] Point point(const Vec6& sigma) const {
+    const Principal pr = principal(sigma);
+    return point_of(pr.s1, pr.s3, (pr.s1 + pr.s2 + pr.s3) / 3.0);
+  }
+  [[nodiscard]] Point point_of(double s1, double s3, double sm) const {
+    Point pt;
+    pt.s1 = s1;
+    pt.s3 = s3;
+    pt.sm = sm;
+    pt.q = std::max(s1 - s3, 0.0);
+    pt.s3eff = std::max(s3, c_.sigma3_floor * c_.p_a);
+    pt.P = c_.at(pt.s3eff);
+    const double lg = std::log10(pt.s3eff / c_.p_a);
+    const double phi_deg = std::clamp(pt.P.phi - pt.P.delta_phi * lg, 0.0, 89.0);
+    pt.phi = phi_deg * std::numbers::pi / 180.0;
+    const double sp = std::sin(pt.phi);
+    pt.q_f = 2.0 * (pt.P.c * std::cos(pt.phi) + pt.s3eff * sp) / (1.0 - sp);
+    pt.S = pt.q_f > 0.0 ? pt.q / pt.q_f : (pt.q > 0.0 ? 1e30 : 0.0);
+    const double pw = std::pow(pt.s3eff / c_.p_a, pt.P.n);
+    pt.E_i = pt.P.K * c_.p_a * pw;
+    pt.E_ur = pt.P.K_ur * c_.p_a * pw;
+    pt.f = std::clamp(pt.P.G - pt.P.F * lg, c_.nu_min, c_.nu_max);
+    return pt;
+  }
+
+  /// Tangent moduli at a point, on the loading (virgin) or the unloading-reloading branch.
+  [[nodiscard]] Moduli moduli(const Point& pt, bool unloading) const {
+    Moduli mo;
+    const double nu_kg = pt.P.nu;
+    if (unloading) {
+      mo.E = pt.E_ur;
+      if (c_.form == Form::E_nu)
+        mo.nu = pt.f;
+      else if (c_.form == Form::E_B)
+        mo.nu = std::clamp(0.5 - mo.E / (6.0 * bulk(pt)), c_.nu_min, c_.nu_max);
+      else {
+        mo.nu = nu_kg;
+        mo.K = mo.E / (3.0 * (1.0 - 2.0 * nu_kg));
+        mo.G = mo.E / (2.0 * (1.0 + nu_kg));
+        return mo;
+      }
+    } else {
+      const double one = 1.0 - pt.P.R_f * pt.S;
+      const bool failed = pt.S >= 1.0 || one <= 0.0;
+      mo.E = std::max(failed ? 0.0 : pt.E_i * one * one, c_.residual * pt.E_i); // (2.31)
+      if (c_.form == Form::E_nu) {
+        const double A = failed ? 1.0 : pt.P.d * pt.q / (pt.E_i * one); // (2.35)
+        mo.nu = A < 1.0 ? std::min(pt.f / ((1.0 - A) * (1.0 - A)), c_.nu_max) : c_.nu_max;
+      } else if (c_.form == Form::E_B) {
+        mo.nu = std::clamp(0.5 - mo.E / (6.0 * bulk(pt)), c_.nu_min, c_.nu_max); // (2.39)
+      } else {
+        mo.nu = nu_kg; // K from E_i, G from E_t
+        mo.K = pt.E_i / (3.0 * (1.0 - 2.0 * nu_kg));
+        mo.G = mo.E / (2.0 * (1.0 + nu_kg));
+        return mo;
+      }
+    }
+    mo.K = mo.E / (3.0 * (1.0 - 2.0 * mo.nu));
+    mo.G = mo.E / (2.0 * (1.0 + mo.nu));
+    return mo;
+  }
+  [[nodiscard]] Mat6 stiffness(const Vec6& sigma, bool unloading) const {
+    const Moduli mo = moduli(point(sigma), unloading);
+    return stiffness_kg(mo.K, mo.G);
+  }
+
+  /// B_t = K_b p_a (sigma/p_a)^m (2.36) with sigma = sigma_m (thesis) or sigma_3 (Duncan et al. 1980).
+  [[nodiscard]] double bulk(const Point& pt) const {
+    const double s =
+        std::max(c_.bulk_stress == BulkStress::sigma_m ? pt.sm : pt.s3, c_.sigma3_floor * c_.p_a);
+    return pt.P.K_b * c_.p_a * std::pow(s / c_.p_a, pt.P.m);
+  }
+
+  /// The loading criterion value: F_sr (4.50) or q.
+  [[nodiscard]] double criterion(const Point& pt) const {
+    return c_.unloading == Unloading::F_sr ? pt.S : pt.q;
+  }
+  [[nodiscard]] double criterion_max(std::span<const double> h) const {
+    return c_.unloading == Unloading::F_sr ? h[0] : h[1];
+  }
+  /// True when a stress with criterion value v is below the historical maximum (unloading).
+  [[nodiscard]] static bool below(double v, double vmax) {
+    return v < vmax - 1e-12 * std::max(1.0, std::abs(vmax));
+  }
+
+  /// How one update went; replayed when the tangent is differenced.
+  struct Record {
+    bool recovery = false;
+    int substeps = 0;
+    std::vector<double> alpha; ///< per substep: the fraction integrated on the E_ur branch
+  };
+
+  /// One Heun step (explicit trapezoidal rule) of the hypoelastic law on one branch.
+  [[nodiscard]] Vec6 heun(const Vec6& s, const Vec6& de, bool unloading) const {
+    const Moduli m0 = moduli(point(s), unloading);
+    const Vec6 ds0 = stiffness_kg(m0.K, m0.G) * de;
+    const Moduli m1 = moduli(point(s + ds0), unloading);
+    return s + 0.5 * (ds0 + stiffness_kg(m1.K, m1.G) * de);
+  }
+
+  /// Incremental update: substeps of Heun's method. Per substep an E_ur trial decides the branch:
+  /// below the historical maximum of the criterion it is unloading-reloading (E_ur); a substep that
+  /// crosses the maximum is split where the trial reaches it (linear in the criterion), the rest on
+  /// the loading branch (E_t). Tension cut-off after each substep.
+  [[nodiscard]] Vec6 incremental(const Vec6& stress_n, const Vec6& de, std::span<double> h, Record& rec,
+                                 bool replay) const {
+    if (!replay) {
+      rec.recovery = false;
+      const double big = de.cwiseAbs().maxCoeff();
+      rec.substeps = std::clamp(static_cast<int>(std::ceil(big / c_.max_substep_strain)), 1, 100000);
+      rec.alpha.assign(static_cast<std::size_t>(rec.substeps), 0.0);
+    }
+    const Vec6 dd = de / rec.substeps;
+    Vec6 s = stress_n;
+    for (int k = 0; k < rec.substeps; ++k) {
+      double alpha;
+      if (replay)
+        alpha = rec.alpha[static_cast<std::size_t>(k)];
+      else {
+        const Point p0 = point(s);
+        const Moduli mu = moduli(p0, true);
+        const double cmax = criterion_max(h), c0 = criterion(p0);
+        const double ct = criterion(point(s + stiffness_kg(mu.K, mu.G) * dd));
+        if (below(ct, cmax))
+          alpha = 1.0;
+        else if (below(c0, cmax) && ct > c0)
+          alpha = std::clamp((cmax - c0) / (ct - c0), 0.0, 1.0);
+        else
+          alpha = 0.0;
+        rec.alpha[static_cast<std::size_t>(k)] = alpha;
+      }
+      if (alpha > 0.0) s = heun(s, alpha * dd, true);
+      if (alpha < 1.0) s = heun(s, (1.0 - alpha) * dd, false);
+      if (c_.tension_cutoff) s = cut_tension(s);
+      const Point pe = point(s);
+      h[0] = std::max(h[0], pe.S);
+      h[1] = std::max(h[1], pe.q);
+    }
+    return s;
+  }
+
+  /// Lateral strain (expansion positive) of a CID path at major compressive strain e1 and the
+  /// sigma_3 of `pt`: the integral of nu_t = f/(1 - d e)^2 (2.32)-(2.34), with nu_t = nu_max from
+  /// where it reaches nu_max or from failure (e1 = q_f/(E_i (1 - R_f))) on, as the incremental
+  /// update does.
+  [[nodiscard]] double lateral(double e1, const Point& pt) const {
+    const double f = pt.f, d = pt.P.d;
+    if (f <= 0.0) return 0.0;
+    double es = 1e300; // strain where nu_t reaches nu_max
+    if (f >= c_.nu_max)
+      es = 0.0;
+    else if (d > 0.0)
+      es = (1.0 - std::sqrt(f / c_.nu_max)) / d;
+    if (pt.P.R_f < 1.0) es = std::min(es, pt.q_f / (pt.E_i * (1.0 - pt.P.R_f)));
+    if (e1 <= es) return f * e1 / (1.0 - d * e1);
+    return f * es / (1.0 - d * es) + c_.nu_max * (e1 - es);
+  }
+
+  /// The deviator of the hyperbola (2.26) at major compressive strain e1 and sigma_3,
+  /// continued with the residual modulus beyond failure.
+  [[nodiscard]] double hyperbola(const Point& pt, double e1) const {
+    const double R = pt.P.R_f;
+    if (R < 1.0) {
+      const double ef = pt.q_f / (pt.E_i * (1.0 - R)); // strain where q = q_f
+      if (e1 > ef) return pt.q_f + c_.residual * pt.E_i * (e1 - ef);
+    }
+    return e1 / (1.0 / pt.E_i + R * e1 / pt.q_f);
+  }
+
+  /// The author's stress recovery (4.46)-(4.49): sigma_3 from the ratio of the lateral to the
+  /// major principal strain, sigma_1 - sigma_3 from the hyperbola, sigma_2 = sigma_3, principal
+  /// directions of the strain. Returns false when the strain has no major compression or its
+  /// lateral-to-major ratio corresponds to no sigma_3 in (sigma3_floor p_a, 10^4 p_a).
+  [[nodiscard]] bool recover(const Vec6& strain, Vec6& stress) const {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(strain_tensor(strain));
+    const auto& ev = es.eigenvalues(); // ascending, tension positive
+    const double e1 = -ev[0];
+    if (!(e1 > c_.recovery_min_strain)) return false;
+    const double elat = 0.5 * (ev[1] + ev[2]);
+    // g(sigma_3) = lateral(e1, f(sigma_3), d(sigma_3)) decreases with sigma_3: bisection in ln sigma_3.
+    auto g = [&](double s3) { return lateral(e1, point_of(s3, s3, s3)); };
+    double lo = std::log(c_.sigma3_floor * c_.p_a), hi = std::log(1e4 * c_.p_a);
+    // Outside (g(hi), g(lo)) the ratio belongs to no sigma_3 of the law (e.g. a lateral
+    // contraction, or an expansion beyond nu_max): no recovery, the caller integrates instead.
+    if (!(elat < g(std::exp(lo)) && elat > g(std::exp(hi)))) return false;
+    for (int it = 0; it < 200 && hi - lo > 1e-14; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (g(std::exp(mid)) > elat ? lo : hi) = mid;
+    }
+    const double s3 = std::exp(0.5 * (lo + hi));
+    const Point pt = point_of(s3, s3, s3);
+    const double q = hyperbola(pt, e1);
+    const Eigen::Vector3d n1 = es.eigenvectors().col(0);
+    const Eigen::Matrix3d sc = s3 * Eigen::Matrix3d::Identity() + q * n1 * n1.transpose();
+    // The thesis takes sigma_2 = sigma_3. To keep a shear stiffness in the lateral plane (without
+    // it the stress would not depend on the lateral shear strains), the lateral strain deviator
+    // adds 2 G_t times itself, G_t = E_t/(2(1 + nu_t)) at the recovered state; it vanishes for
+    // the axisymmetric states of a triaxial test, so sigma_2 = sigma_3 there.
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n1 * n1.transpose();
+    const Eigen::Matrix3d lat = P * strain_tensor(strain) * P;
+    const Moduli mo = moduli(point_of(s3 + q, s3, s3 + q / 3.0), false);
+    stress = -stress_voigt(sc) + stress_voigt(2.0 * mo.G * (lat - 0.5 * lat.trace() * P));
+    return true;
+  }
+
+  /// Sets tensile principal stresses to zero (principal directions kept).
+  [[nodiscard]] static Vec6 cut_tension(const Vec6& s) {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(stress_tensor(s));
+    if (es.eigenvalues()[2] <= 0.0) return s;
+    Eigen::Vector3d v = es.eigenvalues();
+    for (int i = 0; i < 3; ++i) v[i] = std::min(v[i], 0.0);
+    return stress_voigt(es.eigenvectors() * v.asDiagonal() * es.eigenvectors().transpose());
+  }
+
+  /// The whole update for a strain increment: stress and history; `rec` says what was done.
+  [[nodiscard]] Vec6 evaluate(const MaterialInput& in, const Vec6& de, std::span<double> h, Record& rec,
+                              bool replay) const {
+    for (std::size_t i = 0; i < h.size(); ++i) h[i] = in.history_n[i];
+    if (!replay && c_.update == Update::recovery) {
+      // Loading or unloading: an E_ur trial of the whole increment against the historical maximum.
+      Vec6 trial = in.stress_n;
+      {
+        const Moduli mu = moduli(point(in.stress_n), true);
+        trial += stiffness_kg(mu.K, mu.G) * de;
+      }
+      rec.recovery = !below(criterion(point(trial)), criterion_max(in.history_n));
+      if (rec.recovery) {
+        Vec6 s;
+        if (recover(in.strain_n + de + origin(in.history_n), s)) {
+          const Point pe = point(s);
+          h[0] = std::max(h[0], pe.S);
+          h[1] = std::max(h[1], pe.q);
+          return s;
+        }
+        rec.recovery = false; // no major compression yet: incremental for this step
+      }
+    } else if (replay && rec.recovery) {
+      Vec6 s;
+      if (!recover(in.strain_n + de + origin(in.history_n), s))
+        s = in.stress_n; // cannot happen near a valid base point
+      const Point pe = point(s);
+      h[0] = std::max(h[0], pe.S);
+      h[1] = std::max(h[1], pe.q);
+      return s;
+    }
+    return incremental(in.stress_n, de, h, rec, replay);
+  }
+
+  [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
+    auto where = [&] {
+      return " at element " + std::to_string(in.where.element) + ", point " + std::to_string(in.where.point);
+    };
+    if (!in.dstrain.allFinite() || !in.strain_n.allFinite() || !in.stress_n.allFinite())
+      return Outcome::failure(Status::non_finite, "duncan_chang: non-finite strain or stress" + where());
+    Record rec;
+    out.stress = evaluate(in, in.dstrain, out.history, rec, false);
+    // The tangent of what the update did: central differences of the update with the branch
+    // decisions (recovery or incremental, substep count, E_t or E_ur per substep) frozen.
+    std::vector<double> hp(out.history.size());
+    const double step = 1e-7;
+    for (int j = 0; j < 6; ++j) {
+      Vec6 dp = in.dstrain, dm = in.dstrain;
+      dp[j] += step;
+      dm[j] -= step;
+      const Vec6 sp = evaluate(in, dp, hp, rec, true);
+      const Vec6 sm = evaluate(in, dm, hp, rec, true);
+      out.tangent.col(j) = (sp - sm) / (2.0 * step);
+    }
+    if (!out.stress.allFinite() || !out.tangent.allFinite())
+      return Outcome::failure(Status::non_finite,
+                              "duncan_chang: the stress or tangent is not finite" + where());
+    return Outcome::success();
+  }
+
+private:
+  Constants c_;
+};
+
+} // namespace stratum::duncan_chang

@@ -1,0 +1,184 @@
+// The parameter schema of the hyperbolic family (duncan_chang, variable_kg) and its reading into
+// duncan_chang::Constants, with the checks that need more than one parameter.
+#pragma once
+
+#include "duncan_chang.hpp"
+
+#include "stratum/error.hpp"
+#include "stratum/params.hpp"
+
+#include <string>
+#include <vector>
+
+namespace stratum::duncan_chang {
+
+/// Which factory the schema is for.
+enum class Family { duncan_chang, variable_kg };
+
+inline bool uses(Family fam, const std::string& name) {
+  if (fam == Family::variable_kg)
+    return name != "G" && name != "F" && name != "d" && name != "K_b" && name != "m";
+  return name != "nu";
+}
+
+inline void declare(Schema& s, Family fam) {
+  const std::string list = " (a number, or a list with one value per sigma3_levels entry)";
+  if (fam == Family::duncan_chang) {
+    s.text("form", {"E_nu", "E_B"},
+           "E_nu: E_t (2.31) and nu_t (2.35); E_B: E_t (2.31) and the bulk modulus B_t (2.36), nu_t (2.39)")
+        .defaults_to(std::string("E_nu"));
+    s.text("update", {"recovery", "incremental"},
+           "recovery: the author's stress from total strain (4.46)-(4.49) while loading; incremental: "
+           "substepped tangent integration")
+        .defaults_to(std::string("incremental"));
+  }
+  s.text("unloading", {"F_sr", "max_deviator"},
+         "unload/reload with E_ur when the stress level F_sr (4.50) or the deviator is below its maximum so "
+         "far")
+      .defaults_to(std::string("F_sr"));
+  auto num = [&](const char* name, const char* unit, const std::string& meaning) -> ParamSpec& {
+    return s.real_list(name, unit, meaning + list);
+  };
+  const std::vector<double> none;
+  num("K", "-", "modulus number of E_i = K p_a (sigma_3/p_a)^n (2.27)").greater_than(0.0);
+  num("n", "-", "modulus exponent of (2.27) and (2.40)").at_least(0.0).less_than(2.0);
+  num("R_f", "-", "failure ratio q_f/q_ult (2.25)").greater_than(0.0).at_most(1.0);
+  num("phi", "deg", "friction angle phi_i at sigma_3 = p_a (2.28), (2.41)").at_least(0.0).less_than(90.0);
+  num("c", "kPa", "cohesion (2.28)").at_least(0.0);
+  num("K_ur", "-", "unloading-reloading modulus number, E_ur = K_ur p_a (sigma_3/p_a)^n (2.40)")
+      .greater_than(0.0);
+  if (fam == Family::duncan_chang) {
+    num("G", "-", "initial Poisson ratio at sigma_3 = p_a, nu_i = G - F log10(sigma_3/p_a) (2.33); E_nu form")
+        .defaults_to(none);
+    num("F", "-", "decrease of nu_i per tenfold sigma_3 (2.33); E_nu form").defaults_to(none);
+    num("d", "-", "lateral-strain parameter of (2.32), (2.35); E_nu form").at_least(0.0).defaults_to(none);
+    num("K_b", "-", "bulk modulus number, B_t = K_b p_a (sigma/p_a)^m (2.36); E_B form")
+        .greater_than(0.0)
+        .defaults_to(none);
+    num("m", "-", "bulk modulus exponent of (2.36); E_B form").at_least(0.0).less_than(2.0).defaults_to(none);
+  } else {
+    num("nu", "-", "constant Poisson ratio: K_t = E_i/(3(1 - 2 nu)), G_t = E_t/(2(1 + nu))")
+        .greater_than(-1.0)
+        .less_than(0.5);
+  }
+  num("delta_phi", "deg", "decrease of phi per tenfold sigma_3 (2.41)").defaults_to(std::vector<double>{0.0});
+  s.real_list("sigma3_levels", "kPa",
+              "sigma_3 of the parameter sets, increasing; below the first the first set, above the last "
+              "the last, linear interpolation of every parameter in sigma_3 in between")
+      .greater_than(0.0)
+      .defaults_to(none);
+  s.real("p_a", "kPa", "atmospheric pressure").greater_than(0.0).defaults_to(100.0);
+  if (fam == Family::duncan_chang) {
+    s.text("bulk_stress", {"sigma_m", "sigma_3"},
+           "the stress of B_t (2.36): sigma_m as printed in the thesis, or sigma_3 (Duncan et al. 1980)")
+        .defaults_to(std::string("sigma_m"));
+    s.real("nu_max", "-", "upper bound of nu_t").greater_than(0.0).less_than(0.5).defaults_to(0.49);
+    s.real("nu_min", "-", "lower bound of nu_t").at_least(0.0).less_than(0.5).defaults_to(0.0);
+  }
+  s.real("sigma3_floor", "-", "smallest sigma_3 used in the moduli and strength, as a fraction of p_a")
+      .greater_than(0.0)
+      .defaults_to(0.01);
+  s.real("residual", "-", "E_t/E_i at and beyond failure (stress level F_sr >= 1), and the floor of E_t")
+      .greater_than(0.0)
+      .less_than(1.0)
+      .defaults_to(1e-3);
+  s.boolean("tension_cutoff", "set tensile principal stresses to zero after each substep").defaults_to(true);
+  s.real("max_substep_strain", "-", "incremental update: largest strain component change per substep")
+      .greater_than(0.0)
+      .defaults_to(1e-4);
+  if (fam == Family::duncan_chang) {
+    s.real("recovery_min_strain", "-",
+           "recovery: the major compressive strain below which the step is integrated incrementally")
+        .greater_than(0.0)
+        .defaults_to(1e-6);
+    s.text("recovery_origin", {"initial_stress", "zero"},
+           "recovery: total strains count from the strain of a CID path to the initial stress "
+           "(initial_stress; none for an isotropic one) or from zero (zero, the thesis as printed)")
+        .defaults_to(std::string("initial_stress"));
+  }
+}
+
+/// Reads validated Params into Constants; throws Error (with the location) on inconsistent input.
+inline Constants read(const Params& p, Family fam) {
+  const std::string prefix = p.context.empty() ? std::string() : p.context + " ";
+  auto fail = [&](const std::string& name, const std::string& msg) {
+    throw Error(p.where(name), prefix + msg);
+  };
+  Constants c;
+  if (fam == Family::duncan_chang) {
+    c.form = p.text("form") == "E_B" ? Form::E_B : Form::E_nu;
+    c.update = p.text("update") == "recovery" ? Update::recovery : Update::incremental;
+    c.bulk_stress = p.text("bulk_stress") == "sigma_3" ? BulkStress::sigma_3 : BulkStress::sigma_m;
+    c.nu_max = p.real("nu_max");
+    c.nu_min = p.real("nu_min");
+    c.recovery_min_strain = p.real("recovery_min_strain");
+    c.origin_at_initial_stress = p.text("recovery_origin") == "initial_stress";
+    if (c.nu_min > c.nu_max) fail("nu_min", "nu_min must not exceed nu_max");
+  } else {
+    c.form = Form::K_G;
+  }
+  c.unloading = p.text("unloading") == "max_deviator" ? Unloading::max_deviator : Unloading::F_sr;
+  c.p_a = p.real("p_a");
+  c.sigma3_floor = p.real("sigma3_floor");
+  c.residual = p.real("residual");
+  c.tension_cutoff = p.flag("tension_cutoff");
+  c.max_substep_strain = p.real("max_substep_strain");
+  c.levels = p.real_list("sigma3_levels");
+
+  // Which parameters this form needs.
+  std::vector<std::string> needed{"K", "n", "R_f", "phi", "c", "K_ur", "delta_phi"};
+  if (c.form == Form::E_nu) needed.insert(needed.end(), {"G", "F", "d"});
+  if (c.form == Form::E_B) needed.insert(needed.end(), {"K_b", "m"});
+  if (c.form == Form::K_G) needed.emplace_back("nu");
+  std::size_t N = 1;
+  std::string longest;
+  for (const auto& name : needed) {
+    const auto& v = p.real_list(name);
+    if (v.empty()) {
+      if (fam == Family::variable_kg) fail(name, name + " must not be an empty list");
+      fail(p.where(name).known() ? name : std::string("form"),
+           name + " is required for form = \"" + (c.form == Form::E_nu ? "E_nu" : "E_B") + "\"");
+    }
+    if (v.size() > 1 && N == 1)
+      N = v.size(), longest = name;
+    else if (v.size() > 1 && v.size() != N)
+      fail(name, name + " has " + std::to_string(v.size()) + " values but " + longest + " has " +
+                     std::to_string(N) + "; every list must have one value per sigma3_levels entry");
+  }
+  if (c.form != Form::E_nu)
+    for (const char* name : {"G", "F", "d"})
+      if (fam == Family::duncan_chang && !p.real_list(name).empty())
+        fail(name, std::string(name) + " belongs to form = \"E_nu\"; remove it or set form = \"E_nu\"");
+  if (c.form != Form::E_B)
+    for (const char* name : {"K_b", "m"})
+      if (fam == Family::duncan_chang && !p.real_list(name).empty())
+        fail(name, std::string(name) + " belongs to form = \"E_B\"; remove it or set form = \"E_B\"");
+  if (N > 1 && c.levels.size() != N)
+    fail(c.levels.empty() ? longest : "sigma3_levels",
+         longest + " has " + std::to_string(N) + " values, so sigma3_levels must list " + std::to_string(N) +
+             " increasing sigma_3 values (kPa), one per set");
+  if (N == 1 && !c.levels.empty())
+    fail("sigma3_levels", "sigma3_levels is given but no parameter is a list; give lists with one value per "
+                          "level or remove sigma3_levels");
+  for (std::size_t i = 1; i < c.levels.size(); ++i)
+    if (!(c.levels[i] > c.levels[i - 1])) fail("sigma3_levels", "sigma3_levels must be strictly increasing");
+  c.sets.assign(N, Set{});
+  for (const auto& [name, mem] : set_members) {
+    if (!uses(fam, name)) continue;
+    const auto& v = p.real_list(name);
+    if (v.empty()) continue;
+    for (std::size_t i = 0; i < N; ++i) c.sets[i].*mem = v.size() == 1 ? v[0] : v[i];
+  }
+  if (c.update == Update::recovery) {
+    if (c.form != Form::E_nu)
+      fail("update", "update = \"recovery\" needs form = \"E_nu\": the recovery (4.49) inverts the "
+                     "lateral-strain law (2.32) of that form");
+    for (const auto& s : c.sets)
+      if (!(s.F > 0.0))
+        fail("F",
+             "update = \"recovery\" needs F > 0: sigma_3 is recovered from nu_i = G - F log10(sigma_3/p_a)");
+  }
+  return c;
+}
+
+} // namespace stratum::duncan_chang
