@@ -330,7 +330,6 @@ nodes = "bottom"
 uy = 0.0
 [output]
 vtk = false
-pile_head = "pile.top"
 pile_cells = "pile"
 [[stages]]
 name = "geostatic"

@@ -1,8 +1,8 @@
 #include "stratum/analysis.hpp"
 
 #include "checkpoint.hpp"
-#include "stage.hpp"
 #include "scene_interfaces.hpp"
+#include "stage.hpp"
 #include "stratum/interfaces.hpp"
 #include "stratum/mesh_io.hpp"
 #include "stratum/vtk_output.hpp"
@@ -117,7 +117,8 @@ Schema convergence_schema() {
 
 Schema mesh_schema() {
   Schema s;
-  s.text("generator", {"blocks", "gmsh"}, "structured graded blocks, or a Gmsh file");
+  s.text("generator", {"blocks", "gmsh", "axisymmetric_pile"},
+         "structured graded blocks, a Gmsh file, or the bored-pile mesh ([mesh.pile])");
   s.text("file", {}, "Gmsh .msh 4.1 ASCII file, relative to the scene file").defaults_to(std::string());
   s.integer("nodes_per_cell", "-", "4 (bilinear) or 8 (serendipity) for generated blocks")
       .at_least(4)
@@ -216,10 +217,9 @@ struct Analysis::Impl {
   std::vector<stage::LoadSpec> loads; ///< loads applied at the current state, in order
   Eigen::VectorXd initial_prescribed; ///< [[constraints]] values, applied over the first stage
   std::string fingerprint;
-  double time = 0.0; ///< output time: stage number - 1 + load factor
-  // Pile curves ([output] pile_head, pile_cells)
-  std::string pile_head, pile_cells;
-  std::string out_dir; ///< where the run writes (for the interface CSV files)
+  double time = 0.0;      ///< output time: stage number - 1 + load factor
+  std::string pile_cells; ///< [output] pile_cells: curves/axial_force.csv
+  std::string out_dir;    ///< where the run writes (for the interface CSV files)
 
   void build(const toml::table& root);
   stage::LoadSpec parse_load(const toml::table& t, const std::string& where_ctx,
@@ -233,9 +233,9 @@ struct Analysis::Impl {
 
 void Analysis::Impl::build(const toml::table& root) {
   // ---- top level
-  static const std::vector<std::string_view> top_keys{"title", "analysis",  "convergence", "solver",
-                                                      "mesh",  "materials", "domains",     "constraints",
-                                                      "loads", "stages",    "output",      "plugins", "contact_laws", "interfaces"};
+  static const std::vector<std::string_view> top_keys{
+      "title",       "analysis", "convergence", "solver", "mesh",    "materials",    "domains",
+      "constraints", "loads",    "stages",      "output", "plugins", "contact_laws", "interfaces"};
   for (auto&& [key, value] : root) {
     const std::string k(key.str());
     if (std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end()) {
@@ -290,7 +290,6 @@ void Analysis::Impl::build(const toml::table& root) {
   vtk = op.flag("vtk");
   ip_output = op.flag("integration_points");
   every = static_cast<int>(op.integer("every"));
-  pile_head = op.text("pile_head");
   pile_cells = op.text("pile_cells");
 
   // ---- solver plugin
@@ -309,8 +308,74 @@ void Analysis::Impl::build(const toml::table& root) {
   // ---- mesh
   {
     const auto& mt = table_at(root, "mesh", "scene");
-    const auto mp = check_table(mt, mesh_schema(), "[mesh]", {"blocks"});
-    if (mp.text("generator") == "blocks") {
+    const auto mp = check_table(mt, mesh_schema(), "[mesh]", {"blocks", "pile"});
+    if (mp.text("generator") == "axisymmetric_pile") {
+      if (model.formulation != Formulation::axisymmetric)
+        throw Error(
+            mp.where("generator"),
+            "[mesh] generator = \"axisymmetric_pile\" needs [analysis] formulation = \"axisymmetric\"");
+      const PileMesh d;
+      Schema ps;
+      ps.real("radius", "m", "pile radius").greater_than(0).defaults_to(d.radius);
+      ps.real("length", "m", "pile length below the ground surface y = 0")
+          .greater_than(0)
+          .defaults_to(d.length);
+      ps.real("near_radius", "m", "outer radius of the near (nonlinear) zone")
+          .greater_than(0)
+          .defaults_to(d.near_radius);
+      ps.real("near_depth", "m", "depth of the near zone").greater_than(0).defaults_to(d.near_depth);
+      ps.real("domain_radius", "m", "radius of the model").greater_than(0).defaults_to(d.domain_radius);
+      ps.real("domain_depth", "m", "depth of the model").greater_than(0).defaults_to(d.domain_depth);
+      ps.integer("n_pile", "-", "cells across the pile radius")
+          .at_least(1)
+          .defaults_to(static_cast<long long>(d.n_pile));
+      ps.integer("n_shaft", "-", "cells along the pile")
+          .at_least(1)
+          .defaults_to(static_cast<long long>(d.n_shaft));
+      ps.integer("n_near", "-", "cells across the near zone")
+          .at_least(1)
+          .defaults_to(static_cast<long long>(d.n_near));
+      ps.integer("n_far", "-", "cells across the far zone")
+          .at_least(1)
+          .defaults_to(static_cast<long long>(d.n_far));
+      ps.integer("n_below", "-", "cells from the pile base to near_depth")
+          .at_least(1)
+          .defaults_to(static_cast<long long>(d.n_below));
+      ps.integer("n_deep", "-", "cells from near_depth to domain_depth")
+          .at_least(1)
+          .defaults_to(static_cast<long long>(d.n_deep));
+      ps.real("grade_near", "-", "outer/inner cell width in the near zone")
+          .greater_than(0)
+          .defaults_to(d.grade_near);
+      ps.real("grade_far", "-", "outer/inner cell width in the far zone")
+          .greater_than(0)
+          .defaults_to(d.grade_far);
+      ps.real("grade_below", "-", "lower/upper cell height below the base")
+          .greater_than(0)
+          .defaults_to(d.grade_below);
+      ps.real("grade_deep", "-", "lower/upper cell height in the deep zone")
+          .greater_than(0)
+          .defaults_to(d.grade_deep);
+      const auto pp = check_table(optional_table(mt, "pile"), ps, "[mesh.pile]");
+      PileMesh spec;
+      spec.radius = pp.real("radius"), spec.length = pp.real("length");
+      spec.near_radius = pp.real("near_radius"), spec.near_depth = pp.real("near_depth");
+      spec.domain_radius = pp.real("domain_radius"), spec.domain_depth = pp.real("domain_depth");
+      spec.nodes_per_cell = static_cast<int>(mp.integer("nodes_per_cell"));
+      spec.n_pile = static_cast<int>(pp.integer("n_pile")),
+      spec.n_shaft = static_cast<int>(pp.integer("n_shaft"));
+      spec.n_near = static_cast<int>(pp.integer("n_near")),
+      spec.n_far = static_cast<int>(pp.integer("n_far"));
+      spec.n_below = static_cast<int>(pp.integer("n_below")),
+      spec.n_deep = static_cast<int>(pp.integer("n_deep"));
+      spec.grade_near = pp.real("grade_near"), spec.grade_far = pp.real("grade_far");
+      spec.grade_below = pp.real("grade_below"), spec.grade_deep = pp.real("grade_deep");
+      try {
+        model.mesh = generate_pile(spec);
+      } catch (const Error& e) {
+        throw Error(location(optional_table(mt, "pile")), e.message());
+      }
+    } else if (mp.text("generator") == "blocks") {
       const int npc = static_cast<int>(mp.integer("nodes_per_cell"));
       if (npc != 4 && npc != 8)
         throw Error(mp.where("nodes_per_cell"),
@@ -574,12 +639,23 @@ stage::LoadSpec Analysis::Impl::parse_load(const toml::table& t, const std::stri
   } else if (type == "load") {
     Schema s;
     s.text("name", {}, "name by which a later stage removes the load").defaults_to(std::string("head"));
-    s.text("edges", {}, "edge set carrying the load (e.g. the pile head)");
+    s.text("edges", {}, "edge set carrying the load").defaults_to(std::string());
+    s.text("cells", {}, "or: a cell set whose top faces carry it (a pile head)").defaults_to(std::string());
     s.real("force", "kN", "total downward force at the end of the stage (axisymmetric: whole circle)");
     const auto p = check_table(t, s, ctx, {"type"});
-    check_set(model.mesh.edge_sets, p, "edges", "an edge set");
+    if (p.text("edges").empty() == p.text("cells").empty())
+      throw Error(location(t),
+                  ctx + " needs exactly one of edges = \"<edge set>\" or cells = \"<cell set>\"");
     spec.kind = stage::LoadSpec::Kind::pressure;
-    spec.name = p.text("name"), spec.set = p.text("edges");
+    spec.name = p.text("name");
+    if (!p.text("edges").empty()) {
+      check_set(model.mesh.edge_sets, p, "edges", "an edge set");
+      spec.set = p.text("edges");
+    } else {
+      check_set(model.mesh.cell_sets, p, "cells", "a cell set");
+      spec.set = p.text("cells");
+      spec.top_of_cells = true;
+    }
     spec.total_force = p.real("force");
   } else if (type == "force") {
     Schema s;
@@ -1002,16 +1078,15 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   StaticProblem problem(m, assembler, *ls);
 
   const std::vector<int>* monitor = nullptr;
-  if (!st.monitor.empty())
-    monitor = &m.mesh.node_sets.at(st.monitor);
-  else if (head)
-    monitor = &m.mesh.node_sets.at(head->set);
+  if (!st.monitor.empty()) monitor = &m.mesh.node_sets.at(st.monitor);
+  std::vector<int> head_nodes;
+  if (head) head_nodes = stage::load_nodes(m, *head);
+  if (!monitor && head) monitor = &head_nodes;
   const double force = head ? head->total_force : 0.0;
   const std::vector<int>* pile = pile_cells.empty() ? nullptr : &m.mesh.cell_sets.at(pile_cells);
   auto record = [&] {
     if (!head) return;
-    summary.load_settlement.push_back(
-        {m.lambda * force, 1e3 * mean_settlement(m, m.mesh.node_sets.at(head->set))});
+    summary.load_settlement.push_back({m.lambda * force, 1e3 * mean_settlement(m, head_nodes)});
     if (pile)
       for (const auto& [y, n] : axial_profile(m, *pile)) axial_rows.push_back({m.lambda * force, y, n});
   };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <set>
 
@@ -88,10 +89,39 @@ double projected_area(const Model& model, const std::vector<Edge>& edges) {
   return std::abs(fy);
 }
 
+std::vector<Edge> load_edges(const Model& model, const LoadSpec& spec) {
+  if (!spec.top_of_cells) return model.mesh.edge_sets.at(spec.set);
+  double top = -std::numeric_limits<double>::infinity();
+  const auto& cells = model.mesh.cell_sets.at(spec.set);
+  for (int c : cells)
+    if (model.is_active(c)) top = std::max(top, model.mesh.nodes[model.mesh.cells[c].nodes[2]].y());
+  std::vector<Edge> edges;
+  for (int c : cells) {
+    if (!model.is_active(c)) continue;
+    const auto& n = model.mesh.cells[c].nodes;
+    // Top side of a quadrilateral cell, counter-clockwise: corner 2 -> corner 3, midside 6.
+    if (std::abs(model.mesh.nodes[n[2]].y() - top) < 1e-9 &&
+        std::abs(model.mesh.nodes[n[3]].y() - top) < 1e-9)
+      edges.push_back(Edge{n[2], n[3], n[6]});
+  }
+  return edges;
+}
+
+std::vector<int> load_nodes(const Model& model, const LoadSpec& spec) {
+  if (spec.kind == LoadSpec::Kind::force) return model.mesh.node_sets.at(spec.set);
+  std::vector<int> ids;
+  for (const Edge& e : load_edges(model, spec))
+    for (int n : {e.a, e.b, e.mid})
+      if (n >= 0) ids.push_back(n);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
 void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f) {
   switch (spec.kind) {
   case LoadSpec::Kind::pressure: {
-    const auto& edges = model.mesh.edge_sets.at(spec.set);
+    const auto edges = load_edges(model, spec);
     if (std::isfinite(spec.total_force)) {
       const double area = projected_area(model, edges);
       const double p = area > 0 ? spec.total_force / area : 0.0;
@@ -155,7 +185,8 @@ namespace {
 /// Puts the interface points of the given cells under a normal compression p(x) (kPa) with zero
 /// shear: the normal jump is found by Newton iterations on the law itself, so that any law
 /// (including those whose normal stress follows the total jump) starts from that traction.
-template <class Pressure> void set_interface_compression(Model& m, const std::vector<int>& cells, Pressure&& p) {
+template <class Pressure>
+void set_interface_compression(Model& m, const std::vector<int>& cells, Pressure&& p) {
   const auto owner = cell_owners(m);
   std::vector<int> nodes;
   Eigen::MatrixX2d x, xp;
@@ -179,7 +210,9 @@ template <class Pressure> void set_interface_compression(Model& m, const std::ve
       Mat2 tangent = Mat2::Zero();
       for (int it = 0; it < 50; ++it) {
         ContactOutput out{traction, h1, tangent};
-        if (!dm.law.contact->update(ContactInput{zero, zero, h0, jump, PointContext{c, static_cast<int>(q - first)}}, out)
+        if (!dm.law.contact
+                 ->update(ContactInput{zero, zero, h0, jump, PointContext{c, static_cast<int>(q - first)}},
+                          out)
                  .ok())
           break;
         const double r = traction[1] - target;
@@ -203,8 +236,8 @@ template <class Pressure> void set_interface_compression(Model& m, const std::ve
 void set_placed_stress(Model& model, const std::vector<int>& cells, bool hydrostatic, double gamma,
                        double surface) {
   if (hydrostatic)
-    set_interface_compression(model, cells,
-                              [&](const Eigen::Vector2d& x) { return gamma * std::max(surface - x.y(), 0.0); });
+    set_interface_compression(
+        model, cells, [&](const Eigen::Vector2d& x) { return gamma * std::max(surface - x.y(), 0.0); });
   for_points(model, cells, [&](const Domain& dm, PointSlot<double>& slot, const Eigen::Vector2d& x) {
     Vec6 s = Vec6::Zero();
     if (hydrostatic) {

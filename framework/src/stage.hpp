@@ -25,12 +25,18 @@ struct LoadSpec {
   /// When finite: the pressure is uniform and scaled so that its total vertical resultant is
   /// this force (kN, downward positive; axisymmetric: over the whole circle).
   double total_force = std::numeric_limits<double>::quiet_NaN();
-  double fx = 0.0, fy = 0.0; ///< force per node (kN)
+  double fx = 0.0, fy = 0.0;  ///< force per node (kN)
+  bool top_of_cells = false; ///< pressure on the top faces of the cell set `set` (a pile head)
 
   template <class Ar> void serialize(Ar& ar, unsigned /*version*/) {
-    ar& name& kind& set& p& gamma& surface& critical_depth& total_force& fx& fy;
+    ar& name& kind& set& p& gamma& surface& critical_depth& total_force& fx& fy& top_of_cells;
   }
 };
+
+/// The edges a pressure spec acts on (the top faces of its active cells for top_of_cells).
+std::vector<Edge> load_edges(const Model& model, const LoadSpec& spec);
+/// The nodes of those edges (sorted, unique).
+std::vector<int> load_nodes(const Model& model, const LoadSpec& spec);
 
 /// Adds the nodal forces of `spec` over the model's active cells to `f` (full size).
 void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f);
