@@ -33,6 +33,7 @@ std::unique_ptr<stratum::Material> create(const Params& p) {
   c.C = p.real("C");
   c.p = p.real("p");
   c.s3_min = p.real("sigma3_min");
+  c.substeps = static_cast<int>(p.integer("substeps"));
   if (const auto problem = ld::check(c)) throw Error(p.where(problem->parameter), prefix + problem->message);
   return std::make_unique<ld::Lade>(c);
 }
@@ -66,6 +67,12 @@ STRATUM_PLUGIN(registry) {
          "floor on sigma3 in E_ur, q, W_peak and eta2 (Lade's laws vanish at sigma3 = 0)")
       .greater_than(0.0)
       .defaults_to(1.0);
+  s.integer("substeps", "-",
+            "minimum number of equal substeps per update (the stress-dependent moduli and hardening "
+            "constants are held at the start of each update; the count is doubled while the return fails)")
+      .at_least(1)
+      .at_most(1000)
+      .defaults_to(1);
   f.create = create;
   registry.add(std::move(f));
 }

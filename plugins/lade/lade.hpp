@@ -64,6 +64,7 @@ struct Constants {
   double C = 0.0002;   ///< cap: W2 = C p_a (f_c/p_a^2)^p (-)
   double p = 0.8;      ///< cap hardening exponent (-)
   double s3_min = 1.0; ///< floor on s3 in the stress-dependent quantities (kPa)
+  int substeps = 1;    ///< minimum number of equal substeps per update (doubled while Newton fails)
 };
 
 struct Problem {
@@ -259,7 +260,7 @@ public:
                               "lade: committed stress outside the cone (I1 = " + number(I1(sn)) + ", I3 = " +
                                   number(I3(sn)) + " kPa^3; the model has no tensile strength)" + where());
     const Frozen z = frozen(sn);
-    for (int nsub = 1; nsub <= 64; nsub *= 2) {
+    for (int nsub = std::max(c_.substeps, 1); nsub <= 64 * std::max(c_.substeps, 1); nsub *= 2) {
       State st{sn, in.history_n[0], in.history_n[1]};
       Sens sens;
       int set = 0;
@@ -275,8 +276,9 @@ public:
       for (std::size_t i = 4; i < out.history.size(); ++i) out.history[i] = 0.0;
       return Outcome::success();
     }
-    return Outcome::failure(Status::not_converged,
-                            "lade: two-surface return did not converge with 64 substeps" + where());
+    return Outcome::failure(Status::not_converged, "lade: two-surface return did not converge with " +
+                                                       std::to_string(64 * std::max(c_.substeps, 1)) +
+                                                       " substeps" + where());
   }
 
 private:
