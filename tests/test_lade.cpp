@@ -13,7 +13,6 @@
 
 #include <array>
 #include <cmath>
-#include <cstdio>
 
 namespace {
 
@@ -263,21 +262,4 @@ TEST_CASE("lade: drained triaxial path, dense sand: contraction, then dilation, 
   // Lade's failure criterion (I1^3/I3 - 27)(I1/pa)^m = eta1 at the peak (the hardening law's maximum).
   CHECK(fp_at_peak == Approx(c.eta1).epsilon(1e-3));
   CHECK(fp_at_peak <= c.eta1 * (1.0 + 1e-9));
-}
-
-TEST_CASE("lade: explore triaxial", "[.lade-explore]") {
-  const ld::Lade mat(dense_sand());
-  Point p(mat, isotropic(100.0));
-  Vec6 g = Vec6::Zero();
-  for (int k = 0; k < 300; ++k) {
-    const auto o = triaxial_step(p, -5e-5, g, 100.0);
-    if (!o.ok()) {
-      std::printf("fail %s\n", o.message.c_str());
-      break;
-    }
-    if (k % 10 == 0)
-      std::printf("%4d ea=%.5f ev=%.6f q=%.2f fp=%.3f W1=%.4g W2=%.4g set=%d sub=%g\n", k, -p.strain[1],
-                  -(p.strain[0] + p.strain[1] + p.strain[2]), -(p.stress[1] - p.stress[0]), mat.fp(-p.stress),
-                  p.history[0], p.history[1], p.active(), p.history[3]);
-  }
 }
