@@ -22,8 +22,9 @@
 // from the committed stress s_n and held for the increment ("frozen"); the return itself is a
 // fully implicit (backward-Euler) two-surface return with both multipliers solved at once by
 // Newton on the 10 unknowns (s, v1, W2, lambda1, lambda2), v1 = (W1 / p_a)^(1/q). If Newton
-// fails the increment is split into 2, 4, ... (up to 64 x the `substeps` minimum) equal substeps. The tangent
-// is the exact derivative of this algorithm (sensitivities carried through the substeps): unsymmetric.
+// fails, the increment is split into 2, 4, ... (up to 64 x the `substeps` minimum) equal
+// substeps. The tangent is the exact derivative of this algorithm (sensitivities carried
+// through the substeps): unsymmetric.
 //
 // History (framework owned): [0] W1 cone plastic work (kPa), [1] W2 cap plastic work (kPa),
 // [2] active set of the last increment (0 elastic, 1 cone, 2 cap, 3 both), [3] substeps used.
