@@ -1,6 +1,7 @@
 #include "stratum/analysis.hpp"
 
 #include "stratum/mesh_io.hpp"
+#include "stratum/step_control.hpp"
 #include "stratum/vtk_output.hpp"
 #include "toml_check.hpp"
 
@@ -46,6 +47,14 @@ public:
   double force_scale(double lambda) const override {
     return std::max(std::abs(lambda) * m_.load_ref.norm(), fint_.size() ? fint_.norm() : 0.0);
   }
+  std::vector<Eigen::Index> node_set_dofs(const std::string& set, int component) const override {
+    std::vector<Eigen::Index> v;
+    auto it = m_.mesh.node_sets.find(set);
+    if (it == m_.mesh.node_sets.end() || component < 0 || component > 1) return v;
+    for (int n : it->second)
+      if (const int e = m_.dofs.eq[static_cast<std::size_t>(2 * n + component)]; e >= 0) v.push_back(e);
+    return v;
+  }
   const Eigen::VectorXd& internal_force() const { return fint_; }
 
 private:
@@ -85,6 +94,27 @@ Schema analysis_schema() {
       .at_least(0)
       .at_most(30)
       .defaults_to(4LL);
+  // Step control (stratum/step_control.hpp).
+  StepSettings d;
+  s.real_list("increments", "-", "explicit load-factor increments (the last one repeats); replaces steps")
+      .defaults_to(std::vector<double>{});
+  s.boolean("automatic", "grow the increment after fast convergence").defaults_to(false);
+  s.integer("fast_iterations", "-", "a step converged in at most this many iterations counts as fast")
+      .at_least(1)
+      .defaults_to(static_cast<long long>(d.fast_iterations));
+  s.real("growth", "-", "increment (arc length) factor after a fast step").at_least(1).defaults_to(d.growth);
+  s.real("max_increment", "-", "largest grown load increment; 0: the whole range")
+      .at_least(0)
+      .defaults_to(0.0);
+  s.real("arc_length", "-", "path-following solvers: first step size; 0: from the first increment")
+      .at_least(0)
+      .defaults_to(0.0);
+  s.real("max_arc_length", "-", "path-following solvers: largest grown step size; 0: unbounded")
+      .at_least(0)
+      .defaults_to(0.0);
+  s.integer("max_steps", "-", "accepted steps at most (path following stops there, load control fails)")
+      .at_least(1)
+      .defaults_to(static_cast<long long>(d.max_steps));
   return s;
 }
 
@@ -102,6 +132,7 @@ Schema convergence_schema() {
   s.real("energy_rtol", "-", "energy criterion (4.21) of the thesis; 0 disables it")
       .at_least(0)
       .defaults_to(0.0);
+  s.boolean("displacement_test", "also require the displacement-correction test").defaults_to(false);
   s.integer("max_iterations", "-", "iterations per step before it counts as failed")
       .at_least(1)
       .defaults_to(static_cast<long long>(c.max_iterations));
@@ -196,8 +227,7 @@ struct Analysis::Impl {
   std::unique_ptr<Solver> solver;
   Model model;
   std::string linear_solver = "auto";
-  int steps = 1;
-  int max_cutbacks = 4;
+  StepSettings stepping;
   Convergence convergence;
   bool vtk = true, ip_output = true;
   int every = 1;
@@ -252,14 +282,25 @@ void Analysis::Impl::build(const toml::table& root) {
   model.formulation =
       ap.text("formulation") == "axisymmetric" ? Formulation::axisymmetric : Formulation::plane_strain;
   linear_solver = ap.text("linear_solver");
-  steps = static_cast<int>(ap.integer("steps"));
-  max_cutbacks = static_cast<int>(ap.integer("max_cutbacks"));
+  stepping.steps = static_cast<int>(ap.integer("steps"));
+  stepping.max_cutbacks = static_cast<int>(ap.integer("max_cutbacks"));
+  stepping.increments = ap.real_list("increments");
+  for (double v : stepping.increments)
+    if (!(v > 0)) throw Error(ap.where("increments"), "[analysis] increments must all be > 0");
+  stepping.automatic = ap.flag("automatic");
+  stepping.fast_iterations = static_cast<int>(ap.integer("fast_iterations"));
+  stepping.growth = ap.real("growth");
+  stepping.max_increment = ap.real("max_increment");
+  stepping.arc_length = ap.real("arc_length");
+  stepping.max_arc_length = ap.real("max_arc_length");
+  stepping.max_steps = static_cast<int>(ap.integer("max_steps"));
   const auto cp = check_table(optional_table(root, "convergence"), convergence_schema(), "[convergence]");
   convergence.force_rtol = cp.real("force_rtol");
   convergence.force_atol = cp.real("force_atol");
   convergence.disp_rtol = cp.real("disp_rtol");
   convergence.disp_atol = cp.real("disp_atol");
   convergence.energy_rtol = cp.real("energy_rtol");
+  convergence.displacement_test = cp.flag("displacement_test");
   convergence.max_iterations = static_cast<int>(cp.integer("max_iterations"));
   const auto op = check_table(optional_table(root, "output"), output_schema(), "[output]");
   vtk = op.flag("vtk");
@@ -637,53 +678,42 @@ RunSummary Analysis::run() {
   }
 
   Eigen::VectorXd u = m.restrict_free(m.u);
+  StepSettings settings = s.stepping;
+  settings.lambda_start = m.lambda;
+  settings.convergence = s.convergence;
+  const int nominal_steps =
+      settings.increments.empty() ? settings.steps : static_cast<int>(settings.increments.size());
+  StepCallbacks cb;
+  cb.commit = [&] {
+    for (auto& dm : m.domains) dm.states.commit();
+  };
+  cb.revert = [&] {
+    for (auto& dm : m.domains) dm.states.revert();
+  };
   // Prescribed displacements jump at the start of a step; without a predictor the first
   // iterate puts the whole jump into the cells next to the prescribed nodes.
-  const bool displacement_driven = m.prescribed.size() > 0 && m.prescribed.cwiseAbs().maxCoeff() > 0.0;
-  const double nominal = 1.0 / s.steps;
-  double dl = nominal;
-  int cut_level = 0;
+  if (m.prescribed.size() > 0 && m.prescribed.cwiseAbs().maxCoeff() > 0.0)
+    cb.predict = [&](NonlinearProblem& p, double l0, double l1, Eigen::VectorXd& x) {
+      predict(p, *ls, l0, l1, x);
+    };
   int step = 0;
-  while (m.lambda < 1.0 - 1e-12) {
-    StepRequest req;
-    req.lambda_n = m.lambda;
-    req.lambda = std::min(1.0, m.lambda + dl);
-    if (1.0 - req.lambda < 1e-12) req.lambda = 1.0;
-    req.convergence = s.convergence;
-    Eigen::VectorXd trial = u;
-    if (displacement_driven) predict(problem, *ls, req.lambda_n, req.lambda, trial);
-    StepReport rep = s.solver->solve(problem, req, trial);
-    if (!rep.outcome.ok()) {
-      for (auto& dm : m.domains) dm.states.revert();
-      summary.reports.push_back(rep);
-      if (cut_level >= s.max_cutbacks) {
-        std::ostringstream msg;
-        msg << "step from load factor " << req.lambda_n << " to " << req.lambda
-            << " failed: " << rep.outcome.message << " (gave up after " << cut_level << " cut-backs)";
-        summary.outcome = Outcome::failure(rep.outcome.status, msg.str());
-        summary.steps_done = step;
-        return summary;
-      }
-      ++cut_level;
-      ++summary.cutbacks;
-      dl *= 0.5;
-      continue;
-    }
-    for (auto& dm : m.domains) dm.states.commit();
-    u = trial;
-    m.lambda = rep.lambda;
-    m.expand(u, m.lambda, m.u);
+  cb.accepted = [&](const StepRecord& rec, const StepReport& rep, const Eigen::VectorXd& x) {
+    m.lambda = rec.lambda;
+    m.expand(x, m.lambda, m.u);
     m.reactions = problem.internal_force();
-    ++step;
-    summary.reports.push_back(rep);
-    if (s.options.on_step) s.options.on_step(step, s.steps, m.lambda, rep);
-    const bool last = m.lambda >= 1.0 - 1e-12;
-    if (writer && (step % s.every == 0 || last)) s.write_step(*writer, m.lambda);
-    if (cut_level > 0) {
-      dl = std::min(nominal, 2 * dl);
-      if (dl >= nominal) cut_level = 0;
-    }
-  }
+    step = rec.step;
+    if (s.options.on_step) s.options.on_step(step, nominal_steps, m.lambda, rep);
+    if (s.options.on_record) s.options.on_record(rec);
+    if (writer && step % s.every == 0) s.write_step(*writer, m.lambda);
+  };
+  StageResult stage = run_stage(problem, *s.solver, settings, cb, u);
+  summary.outcome = stage.outcome;
+  summary.cutbacks = stage.cutbacks;
+  summary.reports = std::move(stage.reports);
+  summary.records = std::move(stage.records);
+  if (writer && step > 0 && step % s.every != 0) s.write_step(*writer, m.lambda); // the last step
+  if (!summary.out_dir.empty())
+    write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
   summary.steps_done = step;
   if (writer) summary.pvd = writer->pvd_path();
   return summary;
