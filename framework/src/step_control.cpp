@@ -45,10 +45,14 @@ void call(const std::function<void()>& f) {
   if (f) f();
 }
 
-std::string gave_up(const StepRecord& r, int cuts) {
+std::string gave_up(const StepRecord& r, int cuts, bool path) {
   std::ostringstream m;
-  m << "step from load factor " << r.lambda_n << " to " << r.lambda << " failed: " << r.message
-    << " (gave up after " << cuts << " cut-backs)";
+  m << "step from load factor " << r.lambda_n;
+  if (path)
+    m << " (step size " << r.arc_length << ")";
+  else
+    m << " to " << r.lambda;
+  m << " failed: " << r.message << " (gave up after " << cuts << " cut-backs)";
   return m.str();
 }
 
@@ -99,7 +103,7 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
       // Give up when the increment is already max_cutbacks halvings below the nominal one.
       const double floor = nominal * std::ldexp(1.0, -s.max_cutbacks);
       if (std::abs(req.lambda - req.lambda_n) <= floor * (1 + 1e-9)) {
-        res.outcome = Outcome::failure(rep.outcome.status, gave_up(rec, s.max_cutbacks));
+        res.outcome = Outcome::failure(rep.outcome.status, gave_up(rec, s.max_cutbacks, false));
         return res;
       }
       dl = 0.5 * std::abs(req.lambda - req.lambda_n);
@@ -170,13 +174,17 @@ StageResult path_following(NonlinearProblem& problem, const Solver& solver, cons
     const auto t0 = Clock::now();
     StepReport rep = solver.solve(problem, req, trial);
     const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (!rep.outcome.ok()) {
+      rep.lambda = req.lambda_n; // nothing reached
+      if (rep.arc_length <= 0) rep.arc_length = size;
+    }
     StepRecord rec = make_record(res.steps_done + 1, req.lambda_n, rep, secs, cuts_here);
     res.reports.push_back(rep);
     if (!rep.outcome.ok()) {
       call(cb.revert);
       res.records.push_back(rec);
       if (depth >= s.max_cutbacks) {
-        res.outcome = Outcome::failure(rep.outcome.status, gave_up(rec, depth));
+        res.outcome = Outcome::failure(rep.outcome.status, gave_up(rec, depth, true));
         return res;
       }
       ++depth;

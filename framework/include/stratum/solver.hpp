@@ -79,6 +79,7 @@ struct StepReport {
   double lambda = 0.0;                ///< load factor reached
   double arc_length = 0.0;            ///< path following: the step size used (measured, thesis (4.19))
   int factorizations = 0;             ///< numeric factorizations performed
+  int solves = 0;                     ///< right-hand sides solved with a factorization
 };
 
 class Solver {
