@@ -2,11 +2,15 @@
 // after a cut-back, and (below) the strip footing and the Newton variants.
 #include "solver_helpers.hpp"
 
+#include "scene_helpers.hpp"
 #include "stratum/step_control.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <numbers>
 
 using namespace stratum;
 using stratum::testing::load_solver;
@@ -146,4 +150,182 @@ TEST_CASE("a failed step is reverted exactly: cut-back equals the smaller step f
   CHECK(a.second[12] > 0.012); // plastic: the largest strain beyond f_t/E = 0.01
   CHECK(a.first == b.first);   // bit for bit
   CHECK(a.second == b.second);
+}
+
+namespace {
+
+/// Catalogue P4 on a coarse mesh: a flexible strip footing (B/2 = 1 m, uniform pressure
+/// 600 kPa at load factor 1) on von Mises soil with k = 100 kPa; limit (2 + pi) k = 514.16 kPa.
+std::string footing(const std::string& analysis, const std::string& solver, int max_iterations = 30) {
+  return R"(
+[analysis]
+formulation = "plane_strain"
+)" + analysis +
+         R"(
+[solver]
+)" + solver +
+         R"(
+[convergence]
+force_rtol = 1e-11
+max_iterations = )" +
+         std::to_string(max_iterations) + R"(
+[mesh]
+generator = "blocks"
+nodes_per_cell = 8
+[[mesh.blocks]]
+name = "foot"
+x = [0.0, 1.0]
+y = [-4.0, 0.0]
+nx = 4
+ny = 7
+grade_x = 0.4
+grade_y = 0.15
+[[mesh.blocks]]
+name = "side"
+x = [1.0, 5.0]
+y = [-4.0, 0.0]
+nx = 6
+ny = 7
+grade_x = 8.0
+grade_y = 0.15
+[materials.clay]
+model = "von_mises"
+E = 1.0e5
+nu = 0.3
+sigma_y = 173.205080757
+integrator = "closest_point"
+[[domains]]
+cells = "all"
+element = "quad"
+material = "clay"
+integration = 3
+volumetric = "selective"
+[[constraints]]
+nodes = "left"
+ux = 0.0
+[[constraints]]
+nodes = "right"
+ux = 0.0
+[[constraints]]
+nodes = "bottom"
+ux = 0.0
+uy = 0.0
+[[loads]]
+type = "pressure"
+edges = "foot.top"
+p = 600.0
+)";
+}
+
+struct Curve {
+  std::vector<double> q, s; ///< footing pressure (kPa) and settlement under its centre (m)
+};
+
+} // namespace
+
+TEST_CASE("P4 strip footing: load control with cut-back and arc length reach (2 + pi) k", "[solver]") {
+  const double q_lim = (2 + std::numbers::pi) * 100.0;
+  // Load control: 12 steps towards 600 kPa; near the limit the steps fail and are halved
+  // until max_cutbacks, which ends the run with a clean status just below the limit.
+  auto run = [&](const std::string& analysis, const std::string& solver, Curve& curve) {
+    const Model* model = nullptr;
+    int centre = -1;
+    RunOptions o;
+    o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+    o.write_output = false;
+    o.on_record = [&curve, &model, &centre](const StepRecord& r) {
+      curve.q.push_back(600.0 * r.lambda);
+      curve.s.push_back(-model->u[2 * centre + 1]);
+    };
+    auto an2 = Analysis::from_string(footing(analysis, solver), "footing.toml", o);
+    model = &an2->model();
+    centre = stratum::testing::node_at(*model, 0.0, 0.0);
+    return an2->run();
+  };
+  Curve lc, al;
+  const auto a = run("steps = 12\nmax_cutbacks = 7", "line_search = 8", lc);
+  INFO("load control: " << a.outcome.message);
+  CHECK_FALSE(a.outcome.ok()); // the limit cannot be passed under load control
+  CHECK(a.cutbacks >= 7);
+  REQUIRE(!lc.q.empty());
+  const double q_lc = lc.q.back();
+  const auto b =
+      run("solver = \"arc_length\"\nsteps = 12\nautomatic = true\nmax_steps = 25\nmax_cutbacks = 6", "", al);
+  INFO("arc length: " << b.outcome.message);
+  REQUIRE(!al.q.empty());
+  const double q_al = *std::max_element(al.q.begin(), al.q.end());
+  INFO("q_lim = " << q_lim << " kPa; load control " << q_lc << ", arc length " << q_al);
+  CHECK(std::abs(q_lc - q_lim) / q_lim < 0.03);
+  CHECK(std::abs(q_al - q_lim) / q_lim < 0.03);
+  // The same curve where both converge: load control through the load factors the arc-length
+  // run reached (below 0.99 q_lim) lands on the same states.
+  std::string list = "increments = [";
+  std::size_t n = 0;
+  for (; n < al.q.size() && al.q[n] < 0.99 * q_lim; ++n) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s%.17g", n ? ", " : "", (al.q[n] - (n ? al.q[n - 1] : 0.0)) / 600.0);
+    list += buf;
+  }
+  list += "]\nmax_cutbacks = 0";
+  Curve follow;
+  const auto c = run(list, "line_search = 8", follow);
+  REQUIRE(n >= 8);
+  REQUIRE(follow.q.size() >= n);
+  double worst = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    CHECK(follow.q[i] == Approx(al.q[i]).epsilon(1e-12));
+    worst = std::max(worst, std::abs(follow.s[i] - al.s[i]) / al.s[i]);
+  }
+  INFO("compared " << n << " points up to " << al.q[n - 1] << " kPa: worst relative settlement difference "
+                   << worst);
+  CHECK(worst < 1e-6);
+}
+
+namespace {
+/// The coarse footing under load control to 0.7 q_lim (plastic from about 0.5 q_lim).
+std::unique_ptr<Analysis> footing_to_90(const std::string& solver_name, const std::string& params) {
+  std::string t =
+      footing("solver = \"" + solver_name + "\"\nincrements = [0.6, 0.05]\nmax_cutbacks = 0", params, 400);
+  t.replace(t.find("p = 600.0"), 9, "p = 360.0"); // 0.7 q_lim
+  t.replace(t.find("force_rtol = 1e-11"), 18, "force_rtol = 1e-10");
+  return stratum::testing::scene(t, "footing90.toml");
+}
+Eigen::VectorXd run_footing(Analysis& an, RunSummary& s, double rtol) {
+  (void)rtol;
+  s = an.run();
+  return an.model().u;
+}
+} // namespace
+
+TEST_CASE("Newton: order close to 2; modified Newton linear; same solution", "[solver]") {
+  RunSummary sn, sm, si;
+  auto n = footing_to_90("newton", "");
+  auto m = footing_to_90("modified_newton", "");
+  auto i = footing_to_90("initial_stiffness", "line_search = 0");
+  const Eigen::VectorXd un = run_footing(*n, sn, 0), um = run_footing(*m, sm, 0), ui = run_footing(*i, si, 0);
+  INFO(sn.outcome.message << " | " << sm.outcome.message << " | " << si.outcome.message);
+  REQUIRE(sn.outcome.ok());
+  REQUIRE(sm.outcome.ok());
+  REQUIRE(n->model().lambda == 1.0);
+  double best = 0;
+  for (const auto& r : sn.records) best = std::max(best, r.order);
+  // Modified Newton: a linear rate, the contraction factor stays roughly constant, order ~ 1.
+  int newton_its = 0, modified_its = 0;
+  for (const auto& r : sn.records) newton_its += r.iterations;
+  double order_m = 0;
+  for (const auto& r : sm.records) {
+    modified_its += r.iterations;
+    CHECK(r.factorizations <= 2);
+    if (r.residual_norms.size() >= 5) order_m = std::max(order_m, r.order);
+  }
+  const double diff = (un - um).norm() / un.norm();
+  INFO("cut-backs " << sn.cutbacks << " " << sm.cutbacks);
+  INFO("Newton order " << best << " (" << newton_its << " iterations), modified Newton order " << order_m
+                       << " (" << modified_its << " iterations), relative difference " << diff);
+  CHECK(best > 1.8);
+  CHECK(order_m < 1.3);
+  CHECK(order_m > 0.7);
+  CHECK(modified_its > 2 * newton_its);
+  CHECK(diff < 1e-8);
+  if (si.outcome.ok()) CHECK((un - ui).norm() / un.norm() < 1e-8);
 }

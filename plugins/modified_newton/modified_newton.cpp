@@ -54,7 +54,7 @@ public:
     double r0 = -1.0, e0 = -1.0;
     for (int it = 0;; ++it) {
       const bool refresh =
-          mode_ == Mode::step_start && (it == 0 || (refresh_every_ > 0 && it % refresh_every_ == 0));
+          mode_ == Mode::step_start && (it <= 1 || (refresh_every_ > 0 && it % refresh_every_ == 0));
       if (auto o = problem.evaluate(u, req.lambda, r, refresh ? &k : nullptr); !o.ok()) return fail(rep, o);
       const double rn = r.norm();
       rep.residual_norms.push_back(rn);
