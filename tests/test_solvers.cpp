@@ -283,15 +283,14 @@ TEST_CASE("P4 strip footing: load control with cut-back and arc length reach (2 
 
 namespace {
 /// The coarse footing under load control to 0.7 q_lim (plastic from about 0.5 q_lim).
-std::unique_ptr<Analysis> footing_to_90(const std::string& solver_name, const std::string& params) {
+std::unique_ptr<Analysis> footing_to_70(const std::string& solver_name, const std::string& params) {
   std::string t =
       footing("solver = \"" + solver_name + "\"\nincrements = [0.6, 0.05]\nmax_cutbacks = 0", params, 400);
   t.replace(t.find("p = 600.0"), 9, "p = 360.0"); // 0.7 q_lim
   t.replace(t.find("force_rtol = 1e-11"), 18, "force_rtol = 1e-10");
   return stratum::testing::scene(t, "footing90.toml");
 }
-Eigen::VectorXd run_footing(Analysis& an, RunSummary& s, double rtol) {
-  (void)rtol;
+Eigen::VectorXd run_footing(Analysis& an, RunSummary& s) {
   s = an.run();
   return an.model().u;
 }
@@ -299,10 +298,10 @@ Eigen::VectorXd run_footing(Analysis& an, RunSummary& s, double rtol) {
 
 TEST_CASE("Newton: order close to 2; modified Newton linear; same solution", "[solver]") {
   RunSummary sn, sm, si;
-  auto n = footing_to_90("newton", "");
-  auto m = footing_to_90("modified_newton", "");
-  auto i = footing_to_90("initial_stiffness", "line_search = 0");
-  const Eigen::VectorXd un = run_footing(*n, sn, 0), um = run_footing(*m, sm, 0), ui = run_footing(*i, si, 0);
+  auto n = footing_to_70("newton", "");
+  auto m = footing_to_70("modified_newton", "");
+  auto i = footing_to_70("initial_stiffness", "line_search = 0");
+  const Eigen::VectorXd un = run_footing(*n, sn), um = run_footing(*m, sm), ui = run_footing(*i, si);
   INFO(sn.outcome.message << " | " << sm.outcome.message << " | " << si.outcome.message);
   REQUIRE(sn.outcome.ok());
   REQUIRE(sm.outcome.ok());
@@ -328,4 +327,35 @@ TEST_CASE("Newton: order close to 2; modified Newton linear; same solution", "[s
   CHECK(modified_its > 2 * newton_its);
   CHECK(diff < 1e-8);
   if (si.outcome.ok()) CHECK((un - ui).norm() / un.norm() < 1e-8);
+}
+
+TEST_CASE("KINSOL strategies agree with the built-in Newton; failure is a status", "[solver]") {
+  RunSummary sn;
+  auto n = footing_to_70("newton", "");
+  const Eigen::VectorXd un = run_footing(*n, sn);
+  REQUIRE(sn.outcome.ok());
+  for (const std::string strategy : {"newton", "picard", "fixed_point"}) {
+    SECTION(strategy) {
+      RunSummary sk;
+      auto k = footing_to_70("kinsol", "strategy = \"" + strategy + "\"");
+      const Eigen::VectorXd uk = run_footing(*k, sk);
+      int its = 0;
+      for (const auto& r : sk.records) its += r.iterations;
+      INFO(strategy << ": " << sk.outcome.message << "; " << its << " iterations");
+      REQUIRE(sk.outcome.ok());
+      CHECK(k->model().lambda == 1.0);
+      const double diff = (uk - un).norm() / un.norm();
+      INFO("relative difference to Newton " << diff);
+      CHECK(diff < 1e-8);
+    }
+  }
+  SECTION("failure beyond the limit load") {
+    std::string t = footing("solver = \"kinsol\"\nsteps = 1\nmax_cutbacks = 0", "", 20);
+    auto k = stratum::testing::scene(t, "kinsol_fail.toml"); // 600 kPa in one step: 1.17 q_lim
+    const auto s = k->run();
+    INFO(s.outcome.message);
+    CHECK_FALSE(s.outcome.ok());
+    CHECK(s.outcome.message.find("KINSOL") != std::string::npos);
+    CHECK(s.steps_done == 0);
+  }
 }
