@@ -148,11 +148,17 @@ int run(const std::vector<std::string>& args, bool check_only) {
   opts.out_dir = out;
   opts.restart_from = restart;
   const bool tty = isatty(STDERR_FILENO) != 0;
+  opts.on_record = [&](const StepRecord& r) {
+    if (!verbose) return;
+    std::cerr << "step " << r.step << " lambda " << r.lambda << " iterations " << r.iterations << " cut-backs "
+              << r.cutbacks << " rate " << r.contraction << " order " << r.order << " time " << r.seconds
+              << " s |R|:";
+    for (double x : r.residual_norms) std::cerr << " " << x;
+    std::cerr << "\n";
+  };
   opts.on_step = [&](int step, int steps, double lambda, const StepReport& rep) {
     if (verbose) {
-      std::cerr << "step " << step << " lambda " << lambda << " iterations " << rep.iterations << " |R|:";
-      for (double r : rep.residual_norms) std::cerr << " " << r;
-      std::cerr << "\n";
+      return; // on_record prints the full line
     } else if (tty) {
       std::cerr << "\rstep " << step << "/" << steps << "  load factor " << std::fixed << std::setprecision(4)
                 << lambda << "  iterations " << rep.iterations << std::defaultfloat << std::flush;

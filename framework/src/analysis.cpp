@@ -5,6 +5,7 @@
 #include "stage.hpp"
 #include "stratum/interfaces.hpp"
 #include "stratum/mesh_io.hpp"
+#include "stratum/step_control.hpp"
 #include "stratum/vtk_output.hpp"
 #include "toml_check.hpp"
 
@@ -53,6 +54,14 @@ public:
   double force_scale(double lambda) const override {
     return std::max((m_.load_base + lambda * m_.load_ref).norm(), fint_.size() ? fint_.norm() : 0.0);
   }
+  std::vector<Eigen::Index> node_set_dofs(const std::string& set, int component) const override {
+    std::vector<Eigen::Index> v;
+    auto it = m_.mesh.node_sets.find(set);
+    if (it == m_.mesh.node_sets.end() || component < 0 || component > 1) return v;
+    for (int n : it->second)
+      if (const int e = m_.dofs.eq[static_cast<std::size_t>(2 * n + component)]; e >= 0) v.push_back(e);
+    return v;
+  }
   const Eigen::VectorXd& internal_force() const { return fint_; }
 
 private:
@@ -92,6 +101,27 @@ Schema analysis_schema() {
       .at_least(0)
       .at_most(30)
       .defaults_to(4LL);
+  // Step control (stratum/step_control.hpp).
+  StepSettings d;
+  s.real_list("increments", "-", "explicit load-factor increments (the last one repeats); replaces steps")
+      .defaults_to(std::vector<double>{});
+  s.boolean("automatic", "grow the increment after fast convergence").defaults_to(false);
+  s.integer("fast_iterations", "-", "a step converged in at most this many iterations counts as fast")
+      .at_least(1)
+      .defaults_to(static_cast<long long>(d.fast_iterations));
+  s.real("growth", "-", "increment (arc length) factor after a fast step").at_least(1).defaults_to(d.growth);
+  s.real("max_increment", "-", "largest grown load increment; 0: the whole range")
+      .at_least(0)
+      .defaults_to(0.0);
+  s.real("arc_length", "-", "path-following solvers: first step size; 0: from the first increment")
+      .at_least(0)
+      .defaults_to(0.0);
+  s.real("max_arc_length", "-", "path-following solvers: largest grown step size; 0: unbounded")
+      .at_least(0)
+      .defaults_to(0.0);
+  s.integer("max_steps", "-", "accepted steps at most (path following stops there, load control fails)")
+      .at_least(1)
+      .defaults_to(static_cast<long long>(d.max_steps));
   return s;
 }
 
@@ -109,6 +139,7 @@ Schema convergence_schema() {
   s.real("energy_rtol", "-", "energy criterion (4.21) of the thesis; 0 disables it")
       .at_least(0)
       .defaults_to(0.0);
+  s.boolean("displacement_test", "also require the displacement-correction test").defaults_to(false);
   s.integer("max_iterations", "-", "iterations per step before it counts as failed")
       .at_least(1)
       .defaults_to(static_cast<long long>(c.max_iterations));
@@ -208,8 +239,7 @@ struct Analysis::Impl {
   std::unique_ptr<Solver> solver;
   Model model;
   std::string linear_solver = "auto";
-  int steps = 1;
-  int max_cutbacks = 4;
+  StepSettings stepping;
   Convergence convergence;
   bool vtk = true, ip_output = true;
   int every = 1;
@@ -228,6 +258,7 @@ struct Analysis::Impl {
   /// Runs stage k; false when the run ends here (failure in summary.outcome, or an early stop).
   bool run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
                  std::vector<std::array<double, 3>>& axial_rows);
+  std::vector<std::array<double, 6>> shaft_rows; ///< load, y, shear, normal, slip (mm), status
   void write_step(VtkSeriesWriter& w, double time) const;
 };
 
@@ -277,14 +308,25 @@ void Analysis::Impl::build(const toml::table& root) {
   model.formulation =
       ap.text("formulation") == "axisymmetric" ? Formulation::axisymmetric : Formulation::plane_strain;
   linear_solver = ap.text("linear_solver");
-  steps = static_cast<int>(ap.integer("steps"));
-  max_cutbacks = static_cast<int>(ap.integer("max_cutbacks"));
+  stepping.steps = static_cast<int>(ap.integer("steps"));
+  stepping.max_cutbacks = static_cast<int>(ap.integer("max_cutbacks"));
+  stepping.increments = ap.real_list("increments");
+  for (double v : stepping.increments)
+    if (!(v > 0)) throw Error(ap.where("increments"), "[analysis] increments must all be > 0");
+  stepping.automatic = ap.flag("automatic");
+  stepping.fast_iterations = static_cast<int>(ap.integer("fast_iterations"));
+  stepping.growth = ap.real("growth");
+  stepping.max_increment = ap.real("max_increment");
+  stepping.arc_length = ap.real("arc_length");
+  stepping.max_arc_length = ap.real("max_arc_length");
+  stepping.max_steps = static_cast<int>(ap.integer("max_steps"));
   const auto cp = check_table(optional_table(root, "convergence"), convergence_schema(), "[convergence]");
   convergence.force_rtol = cp.real("force_rtol");
   convergence.force_atol = cp.real("force_atol");
   convergence.disp_rtol = cp.real("disp_rtol");
   convergence.disp_atol = cp.real("disp_atol");
   convergence.energy_rtol = cp.real("energy_rtol");
+  convergence.displacement_test = cp.flag("displacement_test");
   convergence.max_iterations = static_cast<int>(cp.integer("max_iterations"));
   const auto op = check_table(optional_table(root, "output"), output_schema(), "[output]");
   vtk = op.flag("vtk");
@@ -573,8 +615,9 @@ void Analysis::Impl::build(const toml::table& root) {
     stage::Stage st;
     st.name = "load";
     st.where = location(root);
-    st.steps = steps;
-    st.max_cutbacks = max_cutbacks;
+    st.steps = stepping.steps;
+    st.increments = stepping.increments;
+    st.max_cutbacks = stepping.max_cutbacks;
     st.every = every;
     st.vtk = vtk;
     st.checkpoint = false;
@@ -698,7 +741,7 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
   s.integer("max_cutbacks", "-", "halvings of a failed step before the stage fails")
       .at_least(0)
       .at_most(30)
-      .defaults_to(static_cast<long long>(max_cutbacks));
+      .defaults_to(static_cast<long long>(stepping.max_cutbacks));
   s.boolean("until_failure", "a step failing after its cut-backs ends the run normally (loading to failure)")
       .defaults_to(false);
   s.real("stop_settlement", "m", "stop once the mean settlement of `monitor` exceeds this (0: never)")
@@ -1089,76 +1132,82 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     summary.load_settlement.push_back({m.lambda * force, 1e3 * mean_settlement(m, head_nodes)});
     if (pile)
       for (const auto& [y, n] : axial_profile(m, *pile)) axial_rows.push_back({m.lambda * force, y, n});
+    // Shaft tractions: the interface points on the vertical wall (the largest radius).
+    for (const auto& itf : interfaces.interfaces) {
+      const auto pts = interface_points(m, m.domains[itf.domain]);
+      double rmax = 0.0;
+      for (const auto& q : pts) rmax = std::max(rmax, q.x.x());
+      for (const auto& q : pts)
+        if (q.x.x() > rmax - 1e-9)
+          shaft_rows.push_back({m.lambda * force, q.x.y(), q.traction[0], q.traction[1], 1e3 * q.jump[0],
+                                static_cast<double>(static_cast<int>(q.state))});
+    }
   };
   if (head && summary.load_settlement.empty()) record();
 
-  // ---- load steps
-  std::vector<double> goals;
-  if (st.increments.empty())
-    for (int i = 1; i <= st.steps; ++i) goals.push_back(static_cast<double>(i) / st.steps);
-  else {
-    double acc = 0.0;
-    for (double v : st.increments) goals.push_back(acc += v);
-  }
-  goals.back() = 1.0;
+  // ---- load steps (stratum/step_control.hpp)
+  const int nominal_steps = st.increments.empty() ? st.steps : static_cast<int>(st.increments.size());
   Eigen::VectorXd u = m.restrict_free(m.u);
-  const bool displacement_driven = m.prescribed.size() > 0 && m.prescribed.cwiseAbs().maxCoeff() > 0.0;
-  std::size_t next = 0;
-  int cut_level = 0;
-  double dl_cap = std::numeric_limits<double>::infinity();
-  int step = 0;
-  while (next < goals.size()) {
-    StepRequest req;
-    req.lambda_n = m.lambda;
-    req.lambda = std::min(goals[next], m.lambda + dl_cap);
-    if (goals[next] - req.lambda < 1e-12) req.lambda = goals[next];
-    req.convergence = convergence;
-    Eigen::VectorXd trial = u;
-    if (displacement_driven) predict(problem, *ls, req.lambda_n, req.lambda, trial);
-    StepReport rep = solver->solve(problem, req, trial);
-    if (!rep.outcome.ok()) {
-      for (auto& dm : m.domains) dm.states.revert();
-      summary.reports.push_back(rep);
-      if (cut_level >= st.max_cutbacks) {
-        if (st.until_failure) {
-          summary.stop_reason = "failure";
-          return false;
-        }
-        std::ostringstream msg;
-        msg << "stage \"" << st.name << "\": step from load factor " << req.lambda_n << " to " << req.lambda
-            << " failed: " << rep.outcome.message << " (gave up after " << cut_level << " cut-backs)";
-        summary.outcome = Outcome::failure(rep.outcome.status, msg.str());
-        return false;
-      }
-      ++cut_level;
-      ++summary.cutbacks;
-      dl_cap = 0.5 * (req.lambda - req.lambda_n);
-      continue;
-    }
+  StepSettings settings = stepping;
+  settings.steps = st.steps;
+  settings.increments = st.increments;
+  settings.max_cutbacks = st.max_cutbacks;
+  settings.lambda_start = 0.0;
+  settings.lambda_end = 1.0;
+  settings.convergence = convergence;
+  StepCallbacks cb;
+  cb.commit = [&] {
     for (auto& dm : m.domains) dm.states.commit();
-    u = trial;
-    m.lambda = rep.lambda;
-    m.expand(u, m.lambda, m.u);
+  };
+  cb.revert = [&] {
+    for (auto& dm : m.domains) dm.states.revert();
+  };
+  // Prescribed displacements jump at the start of a step; without a predictor the first
+  // iterate puts the whole jump into the cells next to the prescribed nodes.
+  if (m.prescribed.size() > 0 && m.prescribed.cwiseAbs().maxCoeff() > 0.0)
+    cb.predict = [&](NonlinearProblem& p, double l0, double l1, Eigen::VectorXd& x) {
+      predict(p, *ls, l0, l1, x);
+    };
+  int step = 0;
+  bool written = false;
+  cb.accepted = [&](const StepRecord& rec, const StepReport& rep, const Eigen::VectorXd& x) {
+    m.lambda = rec.lambda;
+    m.expand(x, m.lambda, m.u);
     m.reactions = problem.internal_force();
-    ++step;
+    step = rec.step;
     ++summary.steps_done;
-    summary.reports.push_back(rep);
-    if (m.lambda >= goals[next] - 1e-12) ++next;
-    if (cut_level > 0) {
-      dl_cap *= 2;
-      const double nominal = next < goals.size() ? goals[next] - (next ? goals[next - 1] : 0.0) : 1.0;
-      if (dl_cap >= nominal) cut_level = 0, dl_cap = std::numeric_limits<double>::infinity();
-    }
     time = static_cast<double>(k) + m.lambda;
-    if (options.on_step) options.on_step(step, static_cast<int>(goals.size()), m.lambda, rep);
-    const bool last = next >= goals.size();
-    if (writer && st.vtk && (step % st.every == 0 || last)) write_step(*writer, time);
+    if (options.on_step) options.on_step(step, nominal_steps, m.lambda, rep);
+    if (options.on_record) options.on_record(rec);
+    written = writer && st.vtk && step % st.every == 0;
+    if (written) write_step(*writer, time);
     record();
-    if (st.stop_settlement > 0 && monitor && mean_settlement(m, *monitor) > st.stop_settlement) {
-      summary.stop_reason = "settlement";
-      if (writer && st.vtk && !last) write_step(*writer, time);
+  };
+  bool settled = false;
+  if (st.stop_settlement > 0 && monitor)
+    cb.stop = [&](double, const Eigen::VectorXd&) {
+      return settled = mean_settlement(m, *monitor) > st.stop_settlement;
+    };
+  StageResult res = stratum::run_stage(problem, *solver, settings, cb, u);
+  summary.cutbacks += res.cutbacks;
+  for (auto& r : res.reports) summary.reports.push_back(std::move(r));
+  for (auto& r : res.records) {
+    r.stage = static_cast<int>(k) + 1;
+    summary.records.push_back(std::move(r));
+  }
+  if (writer && st.vtk && step > 0 && !written) write_step(*writer, time);
+  if (!res.outcome.ok()) {
+    if (st.until_failure) {
+      summary.stop_reason = "failure";
       return false;
     }
+    summary.outcome =
+        Outcome::failure(res.outcome.status, "stage \"" + st.name + "\": " + res.outcome.message);
+    return false;
+  }
+  if (settled) {
+    summary.stop_reason = "settlement";
+    return false;
   }
   if (st.reset_after) {
     m.u.setZero();
@@ -1229,6 +1278,8 @@ RunSummary Analysis::run() {
     }
   }
   if (writer) summary.pvd = writer->pvd_path();
+  if (s.options.write_output)
+    write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
   if (s.options.write_output && !summary.load_settlement.empty()) {
     std::ostringstream ls, af;
     ls << std::setprecision(10) << "load_kN,settlement_mm\n";
@@ -1242,6 +1293,16 @@ RunSummary Analysis::run() {
           if (n >= 0) top = std::max(top, m.mesh.nodes[static_cast<std::size_t>(n)].y());
       for (const auto& r : axial_rows) af << r[0] << ',' << top - r[1] << ',' << r[2] << '\n';
       write_text_atomically(fs::path(summary.out_dir) / "curves" / "axial_force.csv", af.str());
+      if (!s.shaft_rows.empty()) {
+        std::ostringstream st;
+        st << std::setprecision(10)
+           << "load_kN,depth_m,shear_traction_kPa,normal_traction_kPa,slip_mm,status\n";
+        static const char* names[] = {"stick", "slip", "open"};
+        for (const auto& r : s.shaft_rows)
+          st << r[0] << ',' << top - r[1] << ',' << r[2] << ',' << r[3] << ',' << r[4] << ','
+             << names[static_cast<int>(r[5])] << '\n';
+        write_text_atomically(fs::path(summary.out_dir) / "curves" / "shaft_traction.csv", st.str());
+      }
     }
   }
   return summary;

@@ -3,8 +3,10 @@
 // once per pattern). A linear scene converges after one solve.
 //
 // Convergence: |R| <= max(force_rtol * force scale, force_atol), and, when
-// energy_rtol > 0, also the thesis' energy test (4.21) |du.R| <= energy_rtol |du_1.R_0|.
-// The displacement criteria of [convergence] are used by the solvers of issue 6.
+// energy_rtol > 0, also the thesis' energy test (4.21) |du.R| <= energy_rtol |du_1.R_0|,
+// and with displacement_test |du| <= max(disp_rtol |u - u_n|, disp_atol)
+// (stratum/iteration.hpp, shared with the other iterative solvers).
+#include "stratum/iteration.hpp"
 #include "stratum/plugin.hpp"
 
 #include <cmath>
@@ -25,6 +27,7 @@ public:
     rep.lambda = req.lambda;
     const Convergence& c = req.convergence;
     SparseMatrix k = problem.make_tangent();
+    const Eigen::VectorXd u_n = u;
     Eigen::VectorXd r, du;
     double r0 = -1.0, e0 = -1.0;
     for (int it = 0;; ++it) {
@@ -33,12 +36,10 @@ public:
       rep.residual_norms.push_back(rn);
       if (!std::isfinite(rn)) return fail(rep, {Status::non_finite, "residual is NaN or Inf"});
       const double scale = problem.force_scale(req.lambda);
-      bool converged = rn <= std::max(c.force_rtol * scale, c.force_atol);
-      if (it > 0 && c.energy_rtol > 0) {
-        const double e = std::abs(du.dot(r));
-        converged = converged && e <= c.energy_rtol * e0;
-      }
-      if (converged) return rep;
+      const bool have = it > 0;
+      const auto chk = iteration::check(c, rn, scale, have, have ? du.norm() : 0.0, (u - u_n).norm(),
+                                        have ? std::abs(du.dot(r)) : 0.0, e0);
+      if (chk.converged()) return rep;
       if (r0 < 0) r0 = rn;
       if (it > 1 && rn > divergence_factor_ * std::max(r0, c.force_atol)) {
         std::ostringstream m;
@@ -52,19 +53,15 @@ public:
         return fail(rep, {Status::not_converged, m.str()});
       }
       if (auto o = problem.linear_solver().factorize(k); !o.ok()) return fail(rep, o);
+      ++rep.factorizations;
       if (auto o = problem.linear_solver().solve(r, du); !o.ok()) return fail(rep, o);
       ++rep.iterations;
+      ++rep.solves;
       if (e0 < 0) e0 = std::abs(du.dot(r));
       // Backtracking: halve the correction while the residual grows (at most line_search times).
       // The residual of the accepted point is re-evaluated with the tangent at the loop top.
-      double step = 1.0;
-      for (int ls = 0; ls < line_search_; ++ls) {
-        Eigen::VectorXd rt;
-        const Outcome o = problem.evaluate(u + step * du, req.lambda, rt, nullptr);
-        if (o.ok() && rt.allFinite() && rt.norm() < rn) break;
-        step *= 0.5;
-      }
-      u += step * du;
+      du *= iteration::line_search(problem, u, du, req.lambda, rn, line_search_);
+      u += du;
     }
   }
 

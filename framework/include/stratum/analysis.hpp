@@ -9,6 +9,7 @@
 #include "stratum/plugin_loader.hpp"
 #include "stratum/registry.hpp"
 #include "stratum/solver.hpp"
+#include "stratum/step_control.hpp"
 
 #include <array>
 #include <functional>
@@ -25,14 +26,17 @@ struct RunOptions {
   bool write_output = true;             ///< false: solve only (tests, benchmarks)
   /// Called after every accepted step (progress line, verbose diagnostics); may be empty.
   std::function<void(int step, int steps, double lambda, const StepReport&)> on_step;
+  /// Called after every accepted step with its diagnostics record; may be empty.
+  std::function<void(const StepRecord&)> on_record;
 };
 
 struct RunSummary {
   Outcome outcome;
   int steps_done = 0;
   int cutbacks = 0;
-  std::vector<StepReport> reports;
-  std::string pvd; ///< the .pvd collection written ("" when no output)
+  std::vector<StepReport> reports; ///< every attempted step, failed ones included
+  std::vector<StepRecord> records; ///< diagnostics of every attempt (also in <out_dir>/diagnostics.csv)
+  std::string pvd;                 ///< the .pvd collection written ("" when no output)
   std::string out_dir;
   int stages_done = 0;          ///< stages completed (counting those before a restart)
   std::string stop_reason;      ///< why a stage ended early: "failure" (until_failure) or "settlement"

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include <string>
 #include <vector>
 
 namespace stratum {
@@ -39,22 +40,36 @@ public:
 
   /// A force scale for relative convergence tests (norm of external plus reaction forces).
   [[nodiscard]] virtual double force_scale(double lambda) const = 0;
+
+  /// Free-unknown indices of a named node set's component (0 = x, 1 = y), for displacement
+  /// control; empty when the problem has no such set (the default).
+  [[nodiscard]] virtual std::vector<Eigen::Index> node_set_dofs(const std::string& /*set*/,
+                                                                int /*component*/) const {
+    return {};
+  }
 };
 
 /// Convergence criteria; a test is passed when either its relative or absolute bound holds.
 struct Convergence {
-  double force_rtol = 1e-8;  ///< |R| <= force_rtol * force scale
-  double force_atol = 1e-10; ///< kN
-  double disp_rtol = 1e-8;   ///< |du| <= disp_rtol * |u - u_n|
-  double disp_atol = 1e-14;  ///< m
-  double energy_rtol = 0.0;  ///< thesis (4.21); 0 disables
+  double force_rtol = 1e-8;       ///< |R| <= force_rtol * force scale
+  double force_atol = 1e-10;      ///< kN
+  double disp_rtol = 1e-8;        ///< |du| <= disp_rtol * |u - u_n|
+  double disp_atol = 1e-14;       ///< m
+  double energy_rtol = 0.0;       ///< thesis (4.21); 0 disables
+  bool displacement_test = false; ///< also require the displacement test
   int max_iterations = 25;
 };
 
 struct StepRequest {
   double lambda_n = 0.0; ///< load factor at the start of the step
-  double lambda = 1.0;   ///< target load factor
+  double lambda = 1.0;   ///< target load factor (path-following solvers: sizes the first step only)
   Convergence convergence;
+  /// Path-following solvers: the step size (arc length; displacement control: the increment of
+  /// the controlled displacement). <= 0: the solver chooses (from lambda - lambda_n, or its parameters).
+  double arc_length = 0.0;
+  /// The displacement increment of the last accepted step (predictor sign), or nullptr.
+  const Eigen::VectorXd* previous_increment = nullptr;
+  double previous_dlambda = 0.0; ///< its load-factor increment
 };
 
 struct StepReport {
@@ -62,6 +77,9 @@ struct StepReport {
   int iterations = 0;                 ///< linear solves performed
   std::vector<double> residual_norms; ///< |R| at every evaluation
   double lambda = 0.0;                ///< load factor reached
+  double arc_length = 0.0;            ///< path following: the step size used (measured, thesis (4.19))
+  int factorizations = 0;             ///< numeric factorizations performed
+  int solves = 0;                     ///< right-hand sides solved with a factorization
 };
 
 class Solver {
@@ -71,6 +89,9 @@ public:
   /// report.lambda. On failure u is unspecified and the caller reverts the state.
   [[nodiscard]] virtual StepReport solve(NonlinearProblem& problem, const StepRequest& request,
                                          Eigen::VectorXd& u) const = 0;
+  /// True for solvers that choose the load factor themselves (arc length, displacement control):
+  /// the step controller passes StepRequest::arc_length and reads StepReport::lambda.
+  [[nodiscard]] virtual bool path_following() const { return false; }
 };
 
 } // namespace stratum

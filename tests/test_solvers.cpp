@@ -1,0 +1,361 @@
+// Global solvers and step control (issue 6): the softening bar S1, exact revert
+// after a cut-back, and (below) the strip footing and the Newton variants.
+#include "solver_helpers.hpp"
+
+#include "scene_helpers.hpp"
+#include "stratum/step_control.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+using namespace stratum;
+using stratum::testing::load_solver;
+using stratum::testing::SofteningBar;
+
+namespace {
+
+StepCallbacks bar_callbacks(SofteningBar& bar) {
+  StepCallbacks cb;
+  cb.commit = [&bar] { bar.commit(); };
+  cb.revert = [&bar] { bar.revert(); };
+  return cb;
+}
+
+/// Fails the `fail_at`-th call after one iteration of the wrapped solver (which leaves trial
+/// states and u dirty), as a numerically failing step would.
+class FailOnce final : public Solver {
+public:
+  FailOnce(const Solver& inner, int fail_at) : inner_(inner), fail_at_(fail_at) {}
+  StepReport solve(NonlinearProblem& p, const StepRequest& req, Eigen::VectorXd& u) const override {
+    if (++calls_ != fail_at_) return inner_.solve(p, req, u);
+    StepRequest r = req;
+    r.convergence.max_iterations = 1;
+    StepReport rep = inner_.solve(p, r, u);
+    rep.outcome = Outcome::failure(Status::not_converged, "forced failure");
+    return rep;
+  }
+  bool path_following() const override { return inner_.path_following(); }
+
+private:
+  const Solver& inner_;
+  int fail_at_;
+  mutable int calls_ = 0;
+};
+
+} // namespace
+
+// S1 parameters: L = 1 m, 10 elements (l_s = 0.1 m), E = 100 kPa, f_t = 1 kPa, H = -20 kPa.
+// Snap-back because (L - l_s)/E = 0.009 > l_s/|H| = 0.005; on the softening branch
+// u = 0.004 sigma + 0.006 m, which decreases from u_peak = 0.01 m as sigma drops.
+TEST_CASE("S1 softening bar: arc length follows the snap-back branch", "[solver]") {
+  SofteningBar bar(10, 1.0, 100.0, 1.0, -20.0);
+  CHECK(bar.softening_u(1.0) == Approx(0.01).epsilon(1e-14));
+  CHECK(bar.softening_u(0.0) == Approx(0.006).epsilon(1e-14));
+  for (const std::string constraint : {"cylindrical", "spherical"}) {
+    SECTION(constraint) {
+      auto s = load_solver("arc_length", "constraint = \"" + constraint +
+                                             "\"\npredictor_sign = \"determinant\"\nroot = \"" +
+                                             (constraint == "cylindrical" ? "angle" : "residual") + "\"");
+      SofteningBar b(10, 1.0, 100.0, 1.0, -20.0);
+      StepSettings set;
+      set.lambda_end = 2.0; // never reached: the bar fails at lambda = 1
+      set.steps = 37;       // first arc length from a load increment of 1/15
+      set.max_steps = 400;
+      set.convergence.force_rtol = 1e-12;
+      set.convergence.force_atol = 1e-14;
+      auto cb = bar_callbacks(b);
+      double peak = 0, u_min_after_peak = 1;
+      int on_branch = 0, worst_step = -1;
+      double worst = 0;
+      cb.accepted = [&](const StepRecord& rec, const StepReport&, const Eigen::VectorXd& u) {
+        const double sigma = rec.lambda, uend = u[9];
+        peak = std::max(peak, sigma);
+        double exact = sigma * 1.0 / 100.0; // elastic branch
+        if (b.kappa() > b.eps_t()) {
+          exact = b.softening_u(sigma);
+          ++on_branch;
+          u_min_after_peak = std::min(u_min_after_peak, uend);
+        }
+        const double err = std::abs(uend - exact) / exact;
+        if (err > worst) worst = err, worst_step = rec.step;
+      };
+      cb.stop = [&](double lambda, const Eigen::VectorXd&) { return b.kappa() > b.eps_t() && lambda < 0.2; };
+      Eigen::VectorXd u = Eigen::VectorXd::Zero(10);
+      const auto res = run_stage(b, *s->solver, set, cb, u);
+      INFO(res.outcome.message << "; worst relative error " << worst << " at step " << worst_step);
+      REQUIRE(res.outcome.ok());
+      CHECK(res.stopped);
+      CHECK(peak > 0.9);
+      CHECK(peak <= 1.0 + 1e-9);
+      CHECK(on_branch >= 5);
+      CHECK(u_min_after_peak < 0.007); // far down the branch of decreasing u (u -> 0.006)
+      CHECK(worst < 1e-6);
+    }
+  }
+}
+
+TEST_CASE("S1 softening bar: displacement control fails cleanly at the turning point", "[solver]") {
+  SofteningBar b(10, 1.0, 100.0, 1.0, -20.0);
+  auto s = load_solver("displacement_control", "dof = 9\nincrement = 0.001");
+  StepSettings set;
+  set.lambda_end = 2.0;
+  set.max_cutbacks = 6;
+  set.convergence.max_iterations = 30;
+  auto cb = bar_callbacks(b);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(10);
+  const auto res = run_stage(b, *s->solver, set, cb, u);
+  INFO(res.outcome.message);
+  CHECK_FALSE(res.outcome.ok());
+  CHECK((res.outcome.status == Status::not_converged || res.outcome.status == Status::diverged));
+  CHECK(res.outcome.message.find("failed") != std::string::npos);
+  // It got to the turning point u = 0.01 m, lambda = 1, and no further.
+  CHECK(res.lambda == Approx(1.0).epsilon(1e-9));
+  CHECK(u[9] == Approx(0.01).epsilon(1e-9));
+  CHECK(res.steps_done == 10);
+  CHECK(res.cutbacks == 6); // every allowed halving failed, then it gave up
+}
+
+TEST_CASE("a failed step is reverted exactly: cut-back equals the smaller step from the start", "[solver]") {
+  // Hardening bar (H > 0): plastic beyond lambda = 1. Run A forces the second step (0.6 -> 1.2)
+  // to fail after one dirtying iteration; the controller halves it (0.6 -> 0.9 -> 1.2).
+  // Run B uses those increments from the start. Both must agree bit for bit.
+  auto newton = load_solver("newton");
+  auto run = [&](const Solver& solver, std::vector<double> inc, StageResult& res) {
+    SofteningBar b(10, 1.0, 100.0, 1.0, 30.0);
+    StepSettings set;
+    set.lambda_end = 1.8;
+    set.increments = std::move(inc);
+    set.convergence.force_rtol = 1e-12;
+    auto cb = bar_callbacks(b);
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(10);
+    res = run_stage(b, solver, set, cb, u);
+    return std::make_pair(u, b.states().committed_data());
+  };
+  StageResult ra, rb;
+  FailOnce failing(*newton->solver, 2);
+  const auto a = run(failing, {0.6}, ra);
+  const auto b = run(*newton->solver, {0.6, 0.3, 0.3, 0.6}, rb);
+  REQUIRE(ra.outcome.ok());
+  REQUIRE(rb.outcome.ok());
+  CHECK(ra.cutbacks == 1);
+  CHECK(ra.steps_done == 4);
+  CHECK(rb.steps_done == 4);
+  REQUIRE(ra.records.size() == 5);
+  CHECK_FALSE(ra.records[1].accepted);
+  CHECK(ra.records[2].lambda == Approx(0.9).epsilon(1e-15));
+  CHECK(a.second[12] > 0.012); // plastic: the largest strain beyond f_t/E = 0.01
+  CHECK(a.first == b.first);   // bit for bit
+  CHECK(a.second == b.second);
+}
+
+namespace {
+
+/// Catalogue P4 on a coarse mesh: a flexible strip footing (B/2 = 1 m, uniform pressure
+/// 600 kPa at load factor 1) on von Mises soil with k = 100 kPa; limit (2 + pi) k = 514.16 kPa.
+std::string footing(const std::string& analysis, const std::string& solver, int max_iterations = 30) {
+  return R"(
+[analysis]
+formulation = "plane_strain"
+)" + analysis +
+         R"(
+[solver]
+)" + solver +
+         R"(
+[convergence]
+force_rtol = 1e-11
+max_iterations = )" +
+         std::to_string(max_iterations) + R"(
+[mesh]
+generator = "blocks"
+nodes_per_cell = 8
+[[mesh.blocks]]
+name = "foot"
+x = [0.0, 1.0]
+y = [-4.0, 0.0]
+nx = 4
+ny = 7
+grade_x = 0.4
+grade_y = 0.15
+[[mesh.blocks]]
+name = "side"
+x = [1.0, 5.0]
+y = [-4.0, 0.0]
+nx = 6
+ny = 7
+grade_x = 8.0
+grade_y = 0.15
+[materials.clay]
+model = "von_mises"
+E = 1.0e5
+nu = 0.3
+sigma_y = 173.205080757
+integrator = "closest_point"
+[[domains]]
+cells = "all"
+element = "quad"
+material = "clay"
+integration = 3
+volumetric = "selective"
+[[constraints]]
+nodes = "left"
+ux = 0.0
+[[constraints]]
+nodes = "right"
+ux = 0.0
+[[constraints]]
+nodes = "bottom"
+ux = 0.0
+uy = 0.0
+[[loads]]
+type = "pressure"
+edges = "foot.top"
+p = 600.0
+)";
+}
+
+struct Curve {
+  std::vector<double> q, s; ///< footing pressure (kPa) and settlement under its centre (m)
+};
+
+} // namespace
+
+TEST_CASE("P4 strip footing: load control with cut-back and arc length reach (2 + pi) k", "[solver]") {
+  const double q_lim = (2 + std::numbers::pi) * 100.0;
+  // Load control: 12 steps towards 600 kPa; near the limit the steps fail and are halved
+  // until max_cutbacks, which ends the run with a clean status just below the limit.
+  auto run = [&](const std::string& analysis, const std::string& solver, Curve& curve) {
+    const Model* model = nullptr;
+    int centre = -1;
+    RunOptions o;
+    o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+    o.write_output = false;
+    o.on_record = [&curve, &model, &centre](const StepRecord& r) {
+      curve.q.push_back(600.0 * r.lambda);
+      curve.s.push_back(-model->u[2 * centre + 1]);
+    };
+    auto an2 = Analysis::from_string(footing(analysis, solver), "footing.toml", o);
+    model = &an2->model();
+    centre = stratum::testing::node_at(*model, 0.0, 0.0);
+    return an2->run();
+  };
+  Curve lc, al;
+  const auto a = run("steps = 12\nmax_cutbacks = 7", "line_search = 8", lc);
+  INFO("load control: " << a.outcome.message);
+  CHECK_FALSE(a.outcome.ok()); // the limit cannot be passed under load control
+  CHECK(a.cutbacks >= 7);
+  REQUIRE(!lc.q.empty());
+  const double q_lc = lc.q.back();
+  const auto b =
+      run("solver = \"arc_length\"\nsteps = 12\nautomatic = true\nmax_steps = 25\nmax_cutbacks = 6", "", al);
+  INFO("arc length: " << b.outcome.message);
+  REQUIRE(!al.q.empty());
+  const double q_al = *std::max_element(al.q.begin(), al.q.end());
+  INFO("q_lim = " << q_lim << " kPa; load control " << q_lc << ", arc length " << q_al);
+  CHECK(std::abs(q_lc - q_lim) / q_lim < 0.03);
+  CHECK(std::abs(q_al - q_lim) / q_lim < 0.03);
+  // The same curve where both converge: load control through the load factors the arc-length
+  // run reached (below 0.99 q_lim) lands on the same states.
+  std::string list = "increments = [";
+  std::size_t n = 0;
+  for (; n < al.q.size() && al.q[n] < 0.99 * q_lim; ++n) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s%.17g", n ? ", " : "", (al.q[n] - (n ? al.q[n - 1] : 0.0)) / 600.0);
+    list += buf;
+  }
+  list += "]\nmax_cutbacks = 0";
+  Curve follow;
+  const auto c = run(list, "line_search = 8", follow);
+  REQUIRE(n >= 8);
+  REQUIRE(follow.q.size() >= n);
+  double worst = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    CHECK(follow.q[i] == Approx(al.q[i]).epsilon(1e-12));
+    worst = std::max(worst, std::abs(follow.s[i] - al.s[i]) / al.s[i]);
+  }
+  INFO("compared " << n << " points up to " << al.q[n - 1] << " kPa: worst relative settlement difference "
+                   << worst);
+  CHECK(worst < 1e-6);
+}
+
+namespace {
+/// The coarse footing under load control to 0.7 q_lim (plastic from about 0.5 q_lim).
+std::unique_ptr<Analysis> footing_to_70(const std::string& solver_name, const std::string& params) {
+  std::string t =
+      footing("solver = \"" + solver_name + "\"\nincrements = [0.6, 0.05]\nmax_cutbacks = 0", params, 400);
+  t.replace(t.find("p = 600.0"), 9, "p = 360.0"); // 0.7 q_lim
+  t.replace(t.find("force_rtol = 1e-11"), 18, "force_rtol = 1e-10");
+  return stratum::testing::scene(t, "footing90.toml");
+}
+Eigen::VectorXd run_footing(Analysis& an, RunSummary& s) {
+  s = an.run();
+  return an.model().u;
+}
+} // namespace
+
+TEST_CASE("Newton: order close to 2; modified Newton linear; same solution", "[solver]") {
+  RunSummary sn, sm, si;
+  auto n = footing_to_70("newton", "");
+  auto m = footing_to_70("modified_newton", "");
+  auto i = footing_to_70("initial_stiffness", "line_search = 0");
+  const Eigen::VectorXd un = run_footing(*n, sn), um = run_footing(*m, sm), ui = run_footing(*i, si);
+  INFO(sn.outcome.message << " | " << sm.outcome.message << " | " << si.outcome.message);
+  REQUIRE(sn.outcome.ok());
+  REQUIRE(sm.outcome.ok());
+  REQUIRE(n->model().lambda == 1.0);
+  double best = 0;
+  for (const auto& r : sn.records) best = std::max(best, r.order);
+  // Modified Newton: a linear rate, the contraction factor stays roughly constant, order ~ 1.
+  int newton_its = 0, modified_its = 0;
+  for (const auto& r : sn.records) newton_its += r.iterations;
+  double order_m = 0;
+  for (const auto& r : sm.records) {
+    modified_its += r.iterations;
+    CHECK(r.factorizations <= 2);
+    if (r.residual_norms.size() >= 5) order_m = std::max(order_m, r.order);
+  }
+  const double diff = (un - um).norm() / un.norm();
+  INFO("cut-backs " << sn.cutbacks << " " << sm.cutbacks);
+  INFO("Newton order " << best << " (" << newton_its << " iterations), modified Newton order " << order_m
+                       << " (" << modified_its << " iterations), relative difference " << diff);
+  CHECK(best > 1.8);
+  CHECK(order_m < 1.3);
+  CHECK(order_m > 0.7);
+  CHECK(modified_its > 2 * newton_its);
+  CHECK(diff < 1e-8);
+  if (si.outcome.ok()) CHECK((un - ui).norm() / un.norm() < 1e-8);
+}
+
+TEST_CASE("KINSOL strategies agree with the built-in Newton; failure is a status", "[solver]") {
+  RunSummary sn;
+  auto n = footing_to_70("newton", "");
+  const Eigen::VectorXd un = run_footing(*n, sn);
+  REQUIRE(sn.outcome.ok());
+  for (const std::string strategy : {"newton", "picard", "fixed_point"}) {
+    SECTION(strategy) {
+      RunSummary sk;
+      auto k = footing_to_70("kinsol", "strategy = \"" + strategy + "\"");
+      const Eigen::VectorXd uk = run_footing(*k, sk);
+      int its = 0;
+      for (const auto& r : sk.records) its += r.iterations;
+      INFO(strategy << ": " << sk.outcome.message << "; " << its << " iterations");
+      REQUIRE(sk.outcome.ok());
+      CHECK(k->model().lambda == 1.0);
+      const double diff = (uk - un).norm() / un.norm();
+      INFO("relative difference to Newton " << diff);
+      CHECK(diff < 1e-8);
+    }
+  }
+  SECTION("failure beyond the limit load") {
+    std::string t = footing("solver = \"kinsol\"\nsteps = 1\nmax_cutbacks = 0", "", 20);
+    auto k = stratum::testing::scene(t, "kinsol_fail.toml"); // 600 kPa in one step: 1.17 q_lim
+    const auto s = k->run();
+    INFO(s.outcome.message);
+    CHECK_FALSE(s.outcome.ok());
+    CHECK(s.outcome.message.find("KINSOL") != std::string::npos);
+    CHECK(s.steps_done == 0);
+  }
+}
