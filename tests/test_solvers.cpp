@@ -3,6 +3,7 @@
 #include "solver_helpers.hpp"
 
 #include "scene_helpers.hpp"
+#include "stratum/iteration.hpp"
 #include "stratum/step_control.hpp"
 
 #include <catch2/catch.hpp>
@@ -451,4 +452,30 @@ TEST_CASE("P4 strip footing: displacement control of a node set and the constant
   INFO("arc length with the constant-work switch: " << wk.outcome.message << ", q = " << q_wk);
   CHECK(wk.outcome.ok());
   CHECK(std::abs(q_wk - q_lim) / q_lim < 0.03);
+}
+
+TEST_CASE("convergence tests: force, energy (4.21) and displacement, relative or absolute", "[solver]") {
+  Convergence c;
+  c.force_rtol = 1e-6;
+  c.force_atol = 1e-3;
+  // Force: |R| <= max(1e-6 * 1e4, 1e-3) = 1e-2.
+  CHECK(iteration::check(c, 0.0099, 1e4, false, 0, 0, 0, 0).converged());
+  CHECK_FALSE(iteration::check(c, 0.0101, 1e4, false, 0, 0, 0, 0).converged());
+  CHECK(iteration::check(c, 0.0009, 1.0, false, 0, 0, 0, 0).converged()); // the absolute bound
+  // Energy: |du.R| <= max(energy_rtol |du_1.R_0|, energy_atol); needs a correction.
+  c.energy_rtol = 1e-4;
+  CHECK_FALSE(iteration::check(c, 0.001, 1e4, false, 0, 0, 0, 0).converged());
+  CHECK(iteration::check(c, 0.001, 1e4, true, 1, 1, 0.99e-2, 100.0).converged());
+  CHECK_FALSE(iteration::check(c, 0.001, 1e4, true, 1, 1, 1.01e-2, 100.0).converged());
+  c.energy_atol = 0.02;
+  CHECK(iteration::check(c, 0.001, 1e4, true, 1, 1, 1.01e-2, 100.0).converged());
+  // Displacement: |du| <= max(disp_rtol |u - u_n|, disp_atol), when enabled.
+  c.energy_rtol = 0;
+  c.displacement_test = true;
+  c.disp_rtol = 1e-3;
+  c.disp_atol = 1e-9;
+  CHECK(iteration::check(c, 0.001, 1e4, true, 0.99e-5, 1e-2, 0, 0).converged());
+  CHECK_FALSE(iteration::check(c, 0.001, 1e4, true, 1.01e-5, 1e-2, 0, 0).converged());
+  CHECK(iteration::check(c, 0.001, 1e4, true, 0.9e-9, 0.0, 0, 0).converged());      // absolute
+  CHECK_FALSE(iteration::check(c, 0.02, 1e4, true, 0.9e-9, 0.0, 0, 0).converged()); // force still applies
 }
