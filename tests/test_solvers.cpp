@@ -234,7 +234,7 @@ TEST_CASE("P4 strip footing: load control with cut-back and arc length reach (2 
   const double q_lim = (2 + std::numbers::pi) * 100.0;
   // Load control: 12 steps towards 600 kPa; near the limit the steps fail and are halved
   // until max_cutbacks, which ends the run with a clean status just below the limit.
-  auto run = [&](const std::string& analysis, const std::string& solver, Curve& curve) {
+  auto run = [&](const std::string& analysis, const std::string& solver, Curve& curve, int its = 30) {
     const Model* model = nullptr;
     int centre = -1;
     RunOptions o;
@@ -244,13 +244,13 @@ TEST_CASE("P4 strip footing: load control with cut-back and arc length reach (2 
       curve.q.push_back(600.0 * r.lambda);
       curve.s.push_back(-model->u[2 * centre + 1]);
     };
-    auto an2 = Analysis::from_string(footing(analysis, solver), "footing.toml", o);
+    auto an2 = Analysis::from_string(footing(analysis, solver, its), "footing.toml", o);
     model = &an2->model();
     centre = stratum::testing::node_at(*model, 0.0, 0.0);
     return an2->run();
   };
   Curve lc, al;
-  const auto a = run("steps = 12\nmax_cutbacks = 7", "line_search = 8", lc);
+  const auto a = run("steps = 12\nmax_cutbacks = 7", "line_search = 8", lc, 12);
   INFO("load control: " << a.outcome.message);
   CHECK_FALSE(a.outcome.ok()); // the limit cannot be passed under load control
   CHECK(a.cutbacks >= 7);
