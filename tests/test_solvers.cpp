@@ -3,6 +3,7 @@
 #include "solver_helpers.hpp"
 
 #include "scene_helpers.hpp"
+#include "stratum/iteration.hpp"
 #include "stratum/step_control.hpp"
 
 #include <catch2/catch.hpp>
@@ -10,7 +11,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
 #include <numbers>
+#include <unistd.h>
 
 using namespace stratum;
 using stratum::testing::load_solver;
@@ -227,7 +234,7 @@ TEST_CASE("P4 strip footing: load control with cut-back and arc length reach (2 
   const double q_lim = (2 + std::numbers::pi) * 100.0;
   // Load control: 12 steps towards 600 kPa; near the limit the steps fail and are halved
   // until max_cutbacks, which ends the run with a clean status just below the limit.
-  auto run = [&](const std::string& analysis, const std::string& solver, Curve& curve) {
+  auto run = [&](const std::string& analysis, const std::string& solver, Curve& curve, int its = 30) {
     const Model* model = nullptr;
     int centre = -1;
     RunOptions o;
@@ -237,13 +244,13 @@ TEST_CASE("P4 strip footing: load control with cut-back and arc length reach (2 
       curve.q.push_back(600.0 * r.lambda);
       curve.s.push_back(-model->u[2 * centre + 1]);
     };
-    auto an2 = Analysis::from_string(footing(analysis, solver), "footing.toml", o);
+    auto an2 = Analysis::from_string(footing(analysis, solver, its), "footing.toml", o);
     model = &an2->model();
     centre = stratum::testing::node_at(*model, 0.0, 0.0);
     return an2->run();
   };
   Curve lc, al;
-  const auto a = run("steps = 12\nmax_cutbacks = 7", "line_search = 8", lc);
+  const auto a = run("steps = 12\nmax_cutbacks = 7", "line_search = 8", lc, 12);
   INFO("load control: " << a.outcome.message);
   CHECK_FALSE(a.outcome.ok()); // the limit cannot be passed under load control
   CHECK(a.cutbacks >= 7);
@@ -358,4 +365,117 @@ TEST_CASE("KINSOL strategies agree with the built-in Newton; failure is a status
     CHECK(s.outcome.message.find("KINSOL") != std::string::npos);
     CHECK(s.steps_done == 0);
   }
+}
+
+TEST_CASE("step control: listed increments, automatic growth", "[solver]") {
+  auto newton = load_solver("newton");
+  auto lambdas = [&](StepSettings set) {
+    SofteningBar b(4, 1.0, 100.0, 1e6, -20.0); // f_t never reached: linear, one iteration per step
+    auto cb = bar_callbacks(b);
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(4);
+    const auto res = run_stage(b, *newton->solver, set, cb, u);
+    REQUIRE(res.outcome.ok());
+    CHECK(u[3] == Approx(0.01).epsilon(1e-12)); // u = lambda L / E at lambda = 1
+    std::vector<double> l;
+    for (const auto& r : res.records) l.push_back(r.lambda);
+    return l;
+  };
+  StepSettings listed;
+  listed.increments = {0.1, 0.2, 0.7};
+  CHECK(lambdas(listed) == std::vector<double>{0.1, 0.30000000000000004, 1.0});
+  StepSettings grow;
+  grow.steps = 10;
+  grow.automatic = true;
+  grow.fast_iterations = 1;
+  grow.growth = 2.0;
+  grow.max_increment = 0.4;
+  const auto g = lambdas(grow); // 0.1, then 0.2, 0.4, 0.4 (bounded), clipped at 1
+  REQUIRE(g.size() == 4);
+  CHECK(g[0] == Approx(0.1));
+  CHECK(g[1] == Approx(0.3));
+  CHECK(g[2] == Approx(0.7));
+  CHECK(g[3] == 1.0);
+}
+
+TEST_CASE("diagnostics: CSV beside the results and stratum run --verbose", "[solver]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("stratum_diag_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string text = footing("steps = 3", "", 30);
+  std::string scene = text;
+  scene.replace(scene.find("p = 600.0"), 9, "p = 300.0");
+  const fs::path file = dir / "diag.toml";
+  std::ofstream(file) << scene;
+  const fs::path out = dir / "out", err = dir / "stderr.txt";
+  const std::string cmd = std::string("STRATUM_PLUGIN_PATH= ") + STRATUM_EXE + " run " + file.string() +
+                          " --out " + out.string() + " --verbose 2>" + err.string() + " >/dev/null";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  std::ifstream csv(out / "diagnostics.csv");
+  REQUIRE(csv.good());
+  std::string line;
+  std::vector<std::string> rows;
+  while (std::getline(csv, line)) rows.push_back(line);
+  REQUIRE(rows.size() == 4); // header + 3 accepted steps
+  CHECK(rows[0].rfind("step,accepted,lambda_n,lambda,iterations", 0) == 0);
+  CHECK(rows[3].rfind("3,1,0.6666666667,1,", 0) == 0);
+  CHECK_FALSE(fs::exists(out / ".diagnostics.csv.tmp"));
+  std::ifstream e(err);
+  std::stringstream ss;
+  ss << e.rdbuf();
+  INFO(ss.str());
+  CHECK(ss.str().find("step 3 lambda 1 iterations ") != std::string::npos);
+  CHECK(ss.str().find(" cut-backs 0 rate ") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("P4 strip footing: displacement control of a node set and the constant-work arc length",
+          "[solver]") {
+  const double q_lim = (2 + std::numbers::pi) * 100.0;
+  auto peak = [&](const std::string& analysis, const std::string& solver, RunSummary& s) {
+    auto an = stratum::testing::scene(footing(analysis, solver), "footing_dc.toml");
+    s = an->run();
+    double q = 0;
+    for (const auto& r : s.records)
+      if (r.accepted) q = std::max(q, 600.0 * r.lambda);
+    return q;
+  };
+  RunSummary dc, wk;
+  const double q_dc = peak("solver = \"displacement_control\"\nmax_steps = 25",
+                           "nodes = \"foot.top\"\ncomponent = \"y\"\nincrement = -0.002", dc);
+  INFO("displacement control: " << dc.outcome.message << ", q = " << q_dc);
+  CHECK(dc.outcome.ok()); // stopped by max_steps, on the plateau
+  CHECK(dc.steps_done == 25);
+  CHECK(std::abs(q_dc - q_lim) / q_lim < 0.03);
+  const double q_wk =
+      peak("solver = \"arc_length\"\nsteps = 12\nautomatic = true\nmax_steps = 25", "work_switch = 0.3", wk);
+  INFO("arc length with the constant-work switch: " << wk.outcome.message << ", q = " << q_wk);
+  CHECK(wk.outcome.ok());
+  CHECK(std::abs(q_wk - q_lim) / q_lim < 0.03);
+}
+
+TEST_CASE("convergence tests: force, energy (4.21) and displacement, relative or absolute", "[solver]") {
+  Convergence c;
+  c.force_rtol = 1e-6;
+  c.force_atol = 1e-3;
+  // Force: |R| <= max(1e-6 * 1e4, 1e-3) = 1e-2.
+  CHECK(iteration::check(c, 0.0099, 1e4, false, 0, 0, 0, 0).converged());
+  CHECK_FALSE(iteration::check(c, 0.0101, 1e4, false, 0, 0, 0, 0).converged());
+  CHECK(iteration::check(c, 0.0009, 1.0, false, 0, 0, 0, 0).converged()); // the absolute bound
+  // Energy: |du.R| <= max(energy_rtol |du_1.R_0|, energy_atol); needs a correction.
+  c.energy_rtol = 1e-4;
+  CHECK_FALSE(iteration::check(c, 0.001, 1e4, false, 0, 0, 0, 0).converged());
+  CHECK(iteration::check(c, 0.001, 1e4, true, 1, 1, 0.99e-2, 100.0).converged());
+  CHECK_FALSE(iteration::check(c, 0.001, 1e4, true, 1, 1, 1.01e-2, 100.0).converged());
+  c.energy_atol = 0.02;
+  CHECK(iteration::check(c, 0.001, 1e4, true, 1, 1, 1.01e-2, 100.0).converged());
+  // Displacement: |du| <= max(disp_rtol |u - u_n|, disp_atol), when enabled.
+  c.energy_rtol = 0;
+  c.displacement_test = true;
+  c.disp_rtol = 1e-3;
+  c.disp_atol = 1e-9;
+  CHECK(iteration::check(c, 0.001, 1e4, true, 0.99e-5, 1e-2, 0, 0).converged());
+  CHECK_FALSE(iteration::check(c, 0.001, 1e4, true, 1.01e-5, 1e-2, 0, 0).converged());
+  CHECK(iteration::check(c, 0.001, 1e4, true, 0.9e-9, 0.0, 0, 0).converged());      // absolute
+  CHECK_FALSE(iteration::check(c, 0.02, 1e4, true, 0.9e-9, 0.0, 0, 0).converged()); // force still applies
 }

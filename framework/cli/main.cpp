@@ -150,9 +150,9 @@ int run(const std::vector<std::string>& args, bool check_only) {
   const bool tty = isatty(STDERR_FILENO) != 0;
   opts.on_record = [&](const StepRecord& r) {
     if (!verbose) return;
-    std::cerr << "step " << r.step << " lambda " << r.lambda << " iterations " << r.iterations << " cut-backs "
-              << r.cutbacks << " rate " << r.contraction << " order " << r.order << " time " << r.seconds
-              << " s |R|:";
+    std::cerr << "step " << r.step << " lambda " << r.lambda << " iterations " << r.iterations
+              << " cut-backs " << r.cutbacks << " rate " << r.contraction << " order " << r.order << " time "
+              << r.seconds << " s |R|:";
     for (double x : r.residual_norms) std::cerr << " " << x;
     std::cerr << "\n";
   };

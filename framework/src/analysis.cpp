@@ -139,6 +139,7 @@ Schema convergence_schema() {
   s.real("energy_rtol", "-", "energy criterion (4.21) of the thesis; 0 disables it")
       .at_least(0)
       .defaults_to(0.0);
+  s.real("energy_atol", "kN m", "absolute bound of the energy criterion").at_least(0).defaults_to(0.0);
   s.boolean("displacement_test", "also require the displacement-correction test").defaults_to(false);
   s.integer("max_iterations", "-", "iterations per step before it counts as failed")
       .at_least(1)
@@ -326,6 +327,7 @@ void Analysis::Impl::build(const toml::table& root) {
   convergence.disp_rtol = cp.real("disp_rtol");
   convergence.disp_atol = cp.real("disp_atol");
   convergence.energy_rtol = cp.real("energy_rtol");
+  convergence.energy_atol = cp.real("energy_atol");
   convergence.displacement_test = cp.flag("displacement_test");
   convergence.max_iterations = static_cast<int>(cp.integer("max_iterations"));
   const auto op = check_table(optional_table(root, "output"), output_schema(), "[output]");

@@ -15,8 +15,6 @@
 #include <Eigen/SparseLU>
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <sstream>
 
 namespace {
@@ -69,12 +67,21 @@ public:
       const double d = req.previous_increment->dot(uf) + psi2 * req.previous_dlambda;
       if (d != 0) sign = d > 0 ? 1.0 : -1.0;
     }
-    // Near a limit load (current stiffness parameter F.uf / F.uf_elastic below work_switch), the
-    // constant external-work increment (4.17)-(4.18) replaces the arc length.
+    // Near a limit load the constant external-work increment (4.17)-(4.18) replaces the arc
+    // length. "Near" is measured by Bergan's current stiffness parameter from the last step's
+    // secant, S = (F.uf)_first / (F.du_prev / dl_prev): 1 while elastic, 0 at a limit load. (The
+    // predictor's own tangent cannot tell: at a converged state the material points see a zero
+    // strain increment and return their elastic tangent.)
     const double fu = f.dot(uf);
-    if (first_fu_ == 0 && fu != 0) first_fu_ = fu; // the stiffness parameter's reference (first step)
-    const bool work = work_switch_ > 0 && req.previous_increment && first_fu_ != 0 &&
-                      std::abs(fu / first_fu_) < work_switch_;
+    if (first_fu_ == 0 && fu != 0) first_fu_ = fu; // the first step's F.K^-1 F
+    double stiffness = 1.0;
+    if (req.previous_increment && req.previous_dlambda != 0 && first_fu_ != 0) {
+      const double secant = f.dot(*req.previous_increment) / req.previous_dlambda; // F.du / dl
+      stiffness = secant != 0 ? first_fu_ / secant : 0.0;
+    } else if (req.previous_increment && req.previous_dlambda == 0) {
+      stiffness = 0.0;
+    }
+    const bool work = work_switch_ > 0 && req.previous_increment && std::abs(stiffness) < work_switch_;
     double dl = 0;
     if (work) {
       // W = work of the last step, (lambda_n - dl_prev / 2) F.du_prev, scaled with the ratio of this
@@ -214,8 +221,8 @@ STRATUM_PLUGIN(registry) {
   s.text("tangent", {"full", "modified"}, "re-form the tangent every iteration, or keep the predictor's")
       .defaults_to(std::string("full"));
   s.real("work_switch", "-",
-         "switch to the constant-work increment (4.17)-(4.18) when F.K^-1 F falls below this fraction of "
-         "its first value (near a limit load); 0: never")
+         "switch to the constant-work increment (4.17)-(4.18) when the current stiffness parameter "
+         "(last step's secant against the first tangent) falls below this (near a limit load); 0: never")
       .at_least(0)
       .at_most(1)
       .defaults_to(0.0);

@@ -27,7 +27,7 @@ struct Check {
                                  double work0) {
   Check k;
   k.force = residual <= std::max(c.force_rtol * force_scale, c.force_atol);
-  if (c.energy_rtol > 0) k.energy = have_correction && work <= c.energy_rtol * work0;
+  if (c.energy_rtol > 0) k.energy = have_correction && work <= std::max(c.energy_rtol * work0, c.energy_atol);
   if (c.displacement_test)
     k.displacement = have_correction && correction <= std::max(c.disp_rtol * step, c.disp_atol);
   return k;

@@ -56,6 +56,7 @@ struct Convergence {
   double disp_rtol = 1e-8;        ///< |du| <= disp_rtol * |u - u_n|
   double disp_atol = 1e-14;       ///< m
   double energy_rtol = 0.0;       ///< thesis (4.21); 0 disables
+  double energy_atol = 0.0;       ///< kN m, absolute bound of the energy test
   bool displacement_test = false; ///< also require the displacement test
   int max_iterations = 25;
 };
