@@ -55,6 +55,7 @@ struct Constants {
   double nu_min = 0.0, nu_max = 0.49;
   double sigma3_floor = 0.01;        ///< smallest sigma_3 used in the moduli, as a fraction of p_a
   double residual = 1e-3;            ///< E_t / E_i at and beyond failure (stress level >= 1)
+  double tangent_stabilization = 0.0; ///< kPa: isotropic modulus added to the tangent only (nu = 0.3)
   double max_substep_strain = 1e-4;  ///< incremental update: largest strain component per substep
   double recovery_min_strain = 1e-6; ///< recovery needs a major compressive strain above this
   bool tension_cutoff = true;
@@ -440,6 +441,17 @@ public:
       const Vec6 sp = evaluate(in, dp, hp, rec, true);
       const Vec6 sm = evaluate(in, dm, hp, rec, true);
       out.tangent.col(j) = (sp - sm) / (2.0 * step);
+    }
+    if (c_.tangent_stabilization > 0.0) {
+      // Only the iteration matrix changes (never the stress): keeps it regular where the soil has
+      // failed or its tension is cut off.
+      const double E = c_.tangent_stabilization, nu = 0.3;
+      const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), G = E / (2 * (1 + nu));
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) out.tangent(a, b) += lam;
+        out.tangent(a, a) += 2 * G;
+        out.tangent(a + 3, a + 3) += G;
+      }
     }
     if (!out.stress.allFinite() || !out.tangent.allFinite())
       return Outcome::failure(Status::non_finite,

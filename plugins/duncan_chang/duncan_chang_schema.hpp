@@ -78,6 +78,10 @@ inline void declare(Schema& s, Family fam) {
   s.real("sigma3_floor", "-", "smallest sigma_3 used in the moduli and strength, as a fraction of p_a")
       .greater_than(0.0)
       .defaults_to(0.01);
+  s.real("tangent_stabilization", "kPa",
+         "isotropic modulus added to the iteration matrix only (not to the stress); 0: the exact tangent")
+      .at_least(0)
+      .defaults_to(0.0);
   s.real("residual", "-", "E_t/E_i at and beyond failure (stress level F_sr >= 1), and the floor of E_t")
       .greater_than(0.0)
       .less_than(1.0)
@@ -121,6 +125,7 @@ inline Constants read(const Params& p, Family fam) {
   c.p_a = p.real("p_a");
   c.sigma3_floor = p.real("sigma3_floor");
   c.residual = p.real("residual");
+  c.tangent_stabilization = p.real("tangent_stabilization");
   c.tension_cutoff = p.flag("tension_cutoff");
   c.max_substep_strain = p.real("max_substep_strain");
   c.levels = p.real_list("sigma3_levels");
