@@ -1,0 +1,82 @@
+// The loess-pile scene end to end through the command line, on a coarser mesh and load
+// programme than the default run: staged construction, head load, curves, checkpoints,
+// a restart from the concrete stage, the plots.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void replace(std::string& s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  REQUIRE(at != std::string::npos);
+  s.replace(at, from.size(), to);
+}
+
+int sh(const std::string& cmd) {
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+} // namespace
+
+TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_pile][cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("stratum_loess_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string scene = slurp(fs::path(STRATUM_SOURCE_DIR) / "inputs/loess_pile/hypoelastic.toml");
+  replace(scene, "n_shaft = 12", "n_shaft = 6");
+  replace(scene, "n_near = 8", "n_near = 4");
+  replace(scene, "n_far = 5", "n_far = 2");
+  replace(scene, "n_below = 6", "n_below = 3");
+  replace(scene, "n_deep = 3", "n_deep = 1");
+  replace(scene, "steps = 10                 # 15 kN per step", "steps = 2");
+  replace(scene, "force = 150.0", "force = 10.0");
+  std::ofstream(dir / "pile.toml") << scene;
+  const std::string exe = std::string("STRATUM_PLUGIN_PATH=") + STRATUM_PLUGIN_DIR + " " + STRATUM_EXE;
+  REQUIRE(sh("cd " + dir.string() + " && " + exe + " run pile.toml > run.txt 2> err.txt") == 0);
+  const std::string out = slurp(dir / "run.txt");
+  CHECK(out.find("load (kN)   settlement (mm)") != std::string::npos);
+  const fs::path res = dir / "out" / "pile";
+  const std::string ls = slurp(res / "curves" / "load_settlement.csv");
+  CHECK(ls.rfind("load_kN,settlement_mm\n0,0\n", 0) == 0);
+  CHECK(std::count(ls.begin(), ls.end(), '\n') == 4); // header, 0, 5 and 10 kN
+  CHECK(slurp(res / "curves" / "axial_force.csv").rfind("load_kN,depth_m,axial_force_kN\n", 0) == 0);
+  CHECK(slurp(res / "curves" / "shaft_traction.csv")
+            .rfind("load_kN,depth_m,shear_traction_kPa,normal_traction_kPa,slip_mm,status\n", 0) == 0);
+  CHECK(fs::exists(res / "pile.pvd"));
+  CHECK(fs::exists(res / "diagnostics.csv"));
+  REQUIRE(fs::exists(res / "checkpoints" / "3_concrete.ckpt"));
+
+  // Restart from the concrete stage: the loading stage gives the same curve, bit for bit.
+  REQUIRE(
+      sh("cd " + dir.string() + " && " + exe +
+         " run pile.toml --out restarted --restart-from out/pile/checkpoints/3_concrete.ckpt > r.txt 2>&1") ==
+      0);
+  CHECK(slurp(dir / "restarted" / "curves" / "load_settlement.csv") == ls);
+
+  // The plots, where matplotlib is installed (tools/run draws them the same way).
+  if (sh("/usr/bin/python3 -c 'import matplotlib' 2>/dev/null") == 0) {
+    REQUIRE(sh("/usr/bin/python3 " + std::string(STRATUM_SOURCE_DIR) + "/tools/plot_pile.py " +
+               (res / "curves").string() + " > /dev/null") == 0);
+    CHECK(fs::file_size(res / "curves" / "load_settlement.png") > 1000);
+    CHECK(fs::file_size(res / "curves" / "axial_force.png") > 1000);
+    CHECK(fs::file_size(res / "curves" / "shaft_traction.png") > 1000);
+  }
+  fs::remove_all(dir);
+}
