@@ -10,7 +10,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 set --
 for f in inputs/point/loess_"$model"_s*.toml; do
-  s=$(basename "$f" .toml | sed 's/.*_s0*//')
+  s=$(basename "$f" .toml | sed 's/.*[_s]0*\([0-9]*\)$/\1/')
   "$stratum" point "$f" --out "$work/$s.csv" > /dev/null
   set -- "$@" "$work/$s.csv" "sigma_3 = $s kPa"
 done
