@@ -25,7 +25,7 @@ struct LoadSpec {
   /// When finite: the pressure is uniform and scaled so that its total vertical resultant is
   /// this force (kN, downward positive; axisymmetric: over the whole circle).
   double total_force = std::numeric_limits<double>::quiet_NaN();
-  double fx = 0.0, fy = 0.0;  ///< force per node (kN)
+  double fx = 0.0, fy = 0.0; ///< force per node (kN)
   bool top_of_cells = false; ///< pressure on the top faces of the cell set `set` (a pile head)
 
   template <class Ar> void serialize(Ar& ar, unsigned /*version*/) {

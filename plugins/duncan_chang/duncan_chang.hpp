@@ -53,11 +53,11 @@ struct Constants {
   BulkStress bulk_stress = BulkStress::sigma_m;
   double p_a = 100.0;
   double nu_min = 0.0, nu_max = 0.49;
-  double sigma3_floor = 0.01;        ///< smallest sigma_3 used in the moduli, as a fraction of p_a
-  double residual = 1e-3;            ///< E_t / E_i at and beyond failure (stress level >= 1)
+  double sigma3_floor = 0.01;         ///< smallest sigma_3 used in the moduli, as a fraction of p_a
+  double residual = 1e-3;             ///< E_t / E_i at and beyond failure (stress level >= 1)
   double tangent_stabilization = 0.0; ///< kPa: isotropic modulus added to the tangent only (nu = 0.3)
-  double max_substep_strain = 1e-4;  ///< incremental update: largest strain component per substep
-  double recovery_min_strain = 1e-6; ///< recovery needs a major compressive strain above this
+  double max_substep_strain = 1e-4;   ///< incremental update: largest strain component per substep
+  double recovery_min_strain = 1e-6;  ///< recovery needs a major compressive strain above this
   bool tension_cutoff = true;
   bool origin_at_initial_stress = true; ///< recovery: strains count from the CID state of the initial stress
   std::vector<double> levels;           ///< sigma_3 of the sets, increasing (empty: one set)

@@ -49,9 +49,9 @@ struct Model {
   /// Prescribed displacement of the current stage: prescribed_base + lambda * prescribed (m).
   Eigen::VectorXd prescribed_base;
   Eigen::VectorXd prescribed;
-  Eigen::VectorXd u;         ///< full-size committed displacement (m)
-  Eigen::VectorXd reactions; ///< full-size internal force at the last converged state (kN)
-  double lambda = 0.0;       ///< committed load factor within the current stage
+  Eigen::VectorXd u;             ///< full-size committed displacement (m)
+  Eigen::VectorXd reactions;     ///< full-size internal force at the last converged state (kN)
+  double lambda = 0.0;           ///< committed load factor within the current stage
   std::vector<char> active;      ///< per cell: 1 when the cell takes part (stages deactivate cells)
   std::vector<char> constrained; ///< per DOF: 1 when a constraint holds it
 
