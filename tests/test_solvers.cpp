@@ -417,8 +417,8 @@ TEST_CASE("diagnostics: CSV beside the results and stratum run --verbose", "[sol
   std::vector<std::string> rows;
   while (std::getline(csv, line)) rows.push_back(line);
   REQUIRE(rows.size() == 4); // header + 3 accepted steps
-  CHECK(rows[0].rfind("step,accepted,lambda_n,lambda,iterations", 0) == 0);
-  CHECK(rows[3].rfind("3,1,0.6666666667,1,", 0) == 0);
+  CHECK(rows[0].rfind("stage,step,accepted,lambda_n,lambda,iterations", 0) == 0);
+  CHECK(rows[3].rfind("1,3,1,0.6666666667,1,", 0) == 0);
   CHECK_FALSE(fs::exists(out / ".diagnostics.csv.tmp"));
   std::ifstream e(err);
   std::stringstream ss;
