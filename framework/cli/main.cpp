@@ -183,7 +183,8 @@ int run(const std::vector<std::string>& args, bool check_only) {
   if (s.cutbacks) std::cout << " (" << s.cutbacks << " cut-backs)";
   std::cout << "\n";
   if (s.stop_reason == "failure")
-    std::cout << "stopped: a load step failed after its cut-backs (the failure load is reached)\n";
+    std::cout << "stopped: a load step did not converge after its cut-backs (collapse, or a numerical "
+                 "failure: see diagnostics.csv); the table ends at the last converged level\n";
   else if (s.stop_reason == "settlement")
     std::cout << "stopped: the settlement limit of the stage is exceeded\n";
   if (!s.load_settlement.empty()) {
