@@ -66,12 +66,20 @@ InterfaceSplit split_interface(Mesh& mesh, const std::string& name, const std::v
       mesh.cells.push_back(cell);
     }
   } else {
+    // On 3-node edges the pair also says whether its node is a midside node (slot 4) or a corner
+    // (slot 5), both filled with the partner again: contact2 then uses the consistent weights of
+    // quadratic edges (1/6, 2/3, 1/6) instead of lumping half-segments.
+    std::set<int> mids;
+    bool quadratic = false;
+    for (const Edge& e : edges)
+      if (e.mid >= 0) quadratic = true, mids.insert(e.mid);
     for (int n : nodes) {
       Cell cell;
       cell.kind = CellKind::node_pair;
       cell.nodes[0] = n, cell.nodes[1] = copy[n];
       cell.nodes[2] = prev.count(n) ? prev[n] : n;
       cell.nodes[3] = next.count(n) ? next[n] : n;
+      if (quadratic) cell.nodes[mids.count(n) ? 4 : 5] = copy[n];
       out.cells.push_back(static_cast<int>(mesh.cells.size()));
       mesh.cells.push_back(cell);
     }

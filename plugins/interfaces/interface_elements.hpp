@@ -65,13 +65,18 @@ public:
 
   [[nodiscard]] int num_points(unsigned /*shape*/) const override { return 1; }
   void check_shape(unsigned shape) const override {
-    if (shape != 0x0Fu)
-      throw Error("contact2 needs a node-pair cell (slots 0-3: node, partner, previous, next); see "
+    if (shape != 0x0Fu && shape != 0x1Fu && shape != 0x2Fu)
+      throw Error("contact2 needs a node-pair cell (slots 0-3: node, partner, previous, next; 4 or 5 "
+                  "marking a midside or corner node of 3-node edges); see "
                   "[[interfaces]] element = \"contact2\"");
   }
   void check_geometry(const ElementData& cell) const override {
     const Geometry g = geometry(cell);
-    if (!(g.area > 0.0))
+    // A corner node of 3-node edges on the axis has a consistent weight of exactly zero.
+    const bool axis_corner =
+        (cell.shape & 0x20u) != 0 && form_ == Formulation::axisymmetric &&
+        std::abs((*cell.x)(0, 0)) <= 1e-12 * (1.0 + (*cell.x).col(1).cwiseAbs().maxCoeff());
+    if (!(g.area > 0.0) && !(axis_corner && g.area == 0.0 && g.R.allFinite()))
       throw Error("contact2 cell " + std::to_string(cell.id) + " has no tributary length (an isolated node)");
     if (((*cell.x).row(0) - (*cell.x).row(1)).norm() > 1e-9 * (1.0 + (*cell.x).row(0).norm()))
       throw Error("contact2 cell " + std::to_string(cell.id) + ": the two nodes are not coincident");
@@ -89,13 +94,25 @@ public:
     const double len = d.norm();
     if (!(len > 0.0)) return g;
     g.R = local_axes(d / len);
-    // Tributary area: the integral of the linear shape function of node i over the two adjacent
-    // segments (half of each; in axisymmetry 2 pi (2 r_i + r_nb)/6 per unit length). It equals the
-    // consistent weight for straight 2-node edges; on 3-node edges it lumps 1/4, 1/2, 1/4.
+    // Tributary area: the integral of node i's shape function over the adjacent edge parts, with
+    // 2 pi r in axisymmetry. 2-node edges (shape 0x0F): the linear function over half of each
+    // neighbouring segment, l/2 or l pi (2 r_i + r_nb)/3. 3-node edges: a midside node (slot 4
+    // present) gets the integral of 1 - s^2 over its edge from corner to corner, 2L/3 or
+    // 2 pi L (r_a + r_b)/3; a corner (slot 5 present) that of s(s - 1)/2 over each edge it ends,
+    // L/6 or pi L r_i/3 with L twice the distance to the midside neighbour (straight edges).
+    const bool midside = (cell.shape & 0x10u) != 0, corner = (cell.shape & 0x20u) != 0;
+    const bool axi = form_ == Formulation::axisymmetric;
+    if (midside) {
+      const double L = (xn - xp).norm();
+      g.area = axi ? 2.0 * std::numbers::pi * L * (xp.x() + xn.x()) / 3.0 : 2.0 * L / 3.0;
+      return g;
+    }
     for (const Vec2& nb : {xp, xn}) {
       const double l = (nb - xi).norm();
-      g.area +=
-          form_ == Formulation::axisymmetric ? l * std::numbers::pi * (2.0 * xi.x() + nb.x()) / 3.0 : 0.5 * l;
+      if (corner)
+        g.area += axi ? std::numbers::pi * (2.0 * l) * xi.x() / 3.0 : 2.0 * l / 6.0;
+      else
+        g.area += axi ? l * std::numbers::pi * (2.0 * xi.x() + nb.x()) / 3.0 : 0.5 * l;
     }
     return g;
   }
@@ -112,12 +129,13 @@ public:
     if (Outcome o = contact_point(*law.contact, states, first_point, jump_n, jump, cell.id, 0, tr, D);
         !o.ok())
       return o;
-    out.force.setZero(8);
+    const auto nd = 2 * cell.x->rows();
+    out.force.setZero(nd);
     const Vec2 f = g.area * (g.R.transpose() * tr);
     out.force.segment<2>(0) = -f;
     out.force.segment<2>(2) = f;
     if (want_tangent) {
-      out.stiffness.setZero(8, 8);
+      out.stiffness.setZero(nd, nd);
       const Mat2 k = g.area * (g.R.transpose() * D * g.R);
       out.stiffness.block<2, 2>(0, 0) = k;
       out.stiffness.block<2, 2>(2, 2) = k;
@@ -127,8 +145,8 @@ public:
     return {};
   }
 
-  void body_force(const ElementData& /*cell*/, const Vec2& /*b*/, Eigen::VectorXd& f) const override {
-    f.setZero(8);
+  void body_force(const ElementData& cell, const Vec2& /*b*/, Eigen::VectorXd& f) const override {
+    f.setZero(2 * cell.x->rows());
   }
   void point_coordinates(const ElementData& cell, Eigen::MatrixX2d& xp) const override {
     xp = cell.x->topRows(1);
