@@ -211,7 +211,8 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
   return {};
 }
 
-void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f,
+void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges,
+                       const std::function<double(const Eigen::Vector2d&)>& p, Formulation f,
                        Eigen::VectorXd& out) {
   // 4-point Gauss-Legendre on [-1, 1]: exact for the polynomial integrands of straight and
   // parabolic edges with the 2 pi r weight.
@@ -238,12 +239,19 @@ void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double 
       // Outward normal times the line Jacobian: (t_y, -t_x); the pressure acts along -normal.
       const Eigen::Vector2d nds(t.y(), -t.x());
       const double weight = w[q] * (f == Formulation::axisymmetric ? 2 * std::numbers::pi * xq.x() : 1.0);
+      const double pq = p(xq);
       for (int a = 0; a < n; ++a) {
-        out[ids[a] * 2 + 0] += -p * N[a] * nds.x() * weight;
-        out[ids[a] * 2 + 1] += -p * N[a] * nds.y() * weight;
+        out[ids[a] * 2 + 0] += -pq * N[a] * nds.x() * weight;
+        out[ids[a] * 2 + 1] += -pq * N[a] * nds.y() * weight;
       }
     }
   }
+}
+
+void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f,
+                       Eigen::VectorXd& out) {
+  add_edge_pressure(
+      mesh, edges, [p](const Eigen::Vector2d&) { return p; }, f, out);
 }
 
 } // namespace stratum

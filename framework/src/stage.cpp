@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <numbers>
 #include <set>
@@ -10,41 +9,6 @@
 namespace stratum::stage {
 
 namespace {
-
-/// Consistent nodal forces of a normal pressure p(x) (kPa, pushing into the body) on edges.
-void add_pressure_field(const Mesh& mesh, const std::vector<Edge>& edges,
-                        const std::function<double(const Eigen::Vector2d&)>& p, Formulation f,
-                        Eigen::VectorXd& out) {
-  constexpr double g[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
-  constexpr double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
-  for (const Edge& e : edges) {
-    const int ids[3] = {e.a, e.b, e.mid};
-    const int n = e.mid >= 0 ? 3 : 2;
-    for (int q = 0; q < 4; ++q) {
-      const double s = g[q];
-      double N[3], dN[3];
-      if (n == 2) {
-        N[0] = 0.5 * (1 - s), N[1] = 0.5 * (1 + s);
-        dN[0] = -0.5, dN[1] = 0.5;
-      } else {
-        N[0] = 0.5 * s * (s - 1), N[1] = 0.5 * s * (s + 1), N[2] = 1 - s * s;
-        dN[0] = s - 0.5, dN[1] = s + 0.5, dN[2] = -2 * s;
-      }
-      Eigen::Vector2d xq = Eigen::Vector2d::Zero(), t = Eigen::Vector2d::Zero();
-      for (int a = 0; a < n; ++a) {
-        xq += N[a] * mesh.nodes[ids[a]];
-        t += dN[a] * mesh.nodes[ids[a]];
-      }
-      const Eigen::Vector2d nds(t.y(), -t.x()); // outward normal times the line Jacobian
-      const double weight = w[q] * (f == Formulation::axisymmetric ? 2 * std::numbers::pi * xq.x() : 1.0);
-      const double pq = p(xq);
-      for (int a = 0; a < n; ++a) {
-        out[ids[a] * 2 + 0] += -pq * N[a] * nds.x() * weight;
-        out[ids[a] * 2 + 1] += -pq * N[a] * nds.y() * weight;
-      }
-    }
-  }
-}
 
 /// (domain, index within the domain) of every cell; (-1, -1) when no domain owns it.
 std::vector<std::pair<int, int>> cell_owners(const Model& m) {
@@ -82,7 +46,7 @@ template <class Fn> void for_points(Model& m, const std::vector<int>& cells, Fn&
 
 double projected_area(const Model& model, const std::vector<Edge>& edges) {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.mesh.nodes.size() * 2));
-  add_pressure_field(
+  add_edge_pressure(
       model.mesh, edges, [](const Eigen::Vector2d&) { return 1.0; }, model.formulation, f);
   double fy = 0.0;
   for (Eigen::Index i = 1; i < f.size(); i += 2) fy += f[i];
@@ -125,11 +89,11 @@ void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f) {
     if (std::isfinite(spec.total_force)) {
       const double area = projected_area(model, edges);
       const double p = area > 0 ? spec.total_force / area : 0.0;
-      add_pressure_field(
+      add_edge_pressure(
           model.mesh, edges, [p](const Eigen::Vector2d&) { return p; }, model.formulation, f);
     } else {
       const LoadSpec s = spec;
-      add_pressure_field(
+      add_edge_pressure(
           model.mesh, edges,
           [&s](const Eigen::Vector2d& x) {
             return s.p + s.gamma * std::min(std::max(s.surface - x.y(), 0.0), s.critical_depth);

@@ -8,6 +8,7 @@
 #include "stratum/mesh.hpp"
 #include "stratum/state_store.hpp"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -90,8 +91,12 @@ private:
   std::vector<std::vector<std::size_t>> scatter_start_;
 };
 
-/// Adds consistent nodal forces of a normal pressure p (kPa, positive = pushing into the
-/// body) on the edges to f (full size). Axisymmetric: weighted with 2 pi r.
+/// Adds consistent nodal forces of a normal pressure p(x) (kPa, positive = pushing into the
+/// body) on the edges to out (full size). Axisymmetric: weighted with 2 pi r.
+void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges,
+                       const std::function<double(const Eigen::Vector2d&)>& p, Formulation f,
+                       Eigen::VectorXd& out);
+/// The same for a uniform pressure p.
 void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f,
                        Eigen::VectorXd& out);
 
