@@ -497,6 +497,44 @@ TEST_CASE("duncan_chang: finite-difference check of the tangent", "[duncan_chang
   CHECK(err < 1e-5);
 }
 
+TEST_CASE("duncan_chang: the explicit update is one forward-Euler step of the hyperbola",
+          "[duncan_chang]") {
+  // update = "explicit": sigma = sigma_n + D(sigma_n) d eps on the branch of the E_ur trial; its
+  // tangent is D(sigma_n) itself, so global Newton sees a piecewise-linear law.
+  const dc::Set a = loess_a();
+  const double q = 0.5 * q_f(a, 100.0);
+  const Vec6 s = triaxial_stress(100.0, q);
+  const Vec6 de = (Vec6() << 2e-4, -7.5e-4, 1.5e-4, 1e-4, -5e-5, 3e-5).finished();
+  const dc::DuncanChang m(constants(dc::Update::explicit_step));
+  const dc::Moduli mo = m.moduli(m.point(s), false);
+  const Mat6 D = dc::stiffness_kg(mo.K, mo.G);
+  const Result r = update(m, s, Vec6::Zero(), hist(0.5, q), de);
+  CHECK((r.stress - (s + D * de)).cwiseAbs().maxCoeff() < 1e-9 * s.cwiseAbs().maxCoeff());
+  CHECK((r.tangent - D).cwiseAbs().maxCoeff() < 1e-6 * D.cwiseAbs().maxCoeff());
+  // Unloading: the E_ur moduli of the start (E_ur (2.40), nu = f).
+  const dc::Moduli mu = m.moduli(m.point(s), true);
+  const Result ru = update(m, s, Vec6::Zero(), hist(0.5, q), Vec6(-de));
+  CHECK((ru.stress - (s - dc::stiffness_kg(mu.K, mu.G) * de)).cwiseAbs().maxCoeff() <
+        1e-9 * s.cwiseAbs().maxCoeff());
+  // Along a drained triaxial path to S = 0.9 the error against the hyperbola (2.26) is first order
+  // in the step: halving the step halves it (ratio 2 within 15 %).
+  auto error = [&](int steps) {
+    const double emax = 0.9 * q_f(a, 100.0) / (E_i(a, 100.0) * (1.0 - 0.9 * a.R_f));
+    const auto run = run_point(point_file(loess_a_toml + "update = \"explicit\"\n", 100.0, emax, steps));
+    REQUIRE(run.outcome.ok());
+    double worst = 0.0;
+    for (const auto& rr : run.rows)
+      worst = std::max(worst, std::abs(q_of(rr) - hyperbola(a, 100.0, eps_a(rr))) / q_f(a, 100.0));
+    return worst;
+  };
+  const double e100 = error(100), e200 = error(200), e400 = error(400);
+  REPORT("explicit: max |q - hyperbola|/q_f with 100, 200, 400 steps: " << e100 << ", " << e200 << ", "
+                                                                         << e400);
+  CHECK(e100 / e200 == Approx(2.0).epsilon(0.15));
+  CHECK(e200 / e400 == Approx(2.0).epsilon(0.15));
+  CHECK(e400 < 1e-2);
+}
+
 TEST_CASE("variable_kg: K from E_i, G from E_t on a drained triaxial path", "[variable_kg]") {
   // At constant sigma_3: p = sigma_3 + q/3 with K = E_i/(3(1 - 2 nu)) constant, so eps_v = q/(3K);
   // d eps_s = dq/(3 G_t), G_t = E_i (1 - R_f q/q_f)^2 / (2(1 + nu)), so

@@ -20,7 +20,7 @@
 namespace stratum::duncan_chang {
 
 enum class Form { E_nu, E_B, K_G };
-enum class Update { recovery, incremental };
+enum class Update { recovery, incremental, explicit_step };
 enum class Unloading { F_sr, max_deviator };
 enum class BulkStress { sigma_m, sigma_3 };
 
@@ -283,7 +283,9 @@ public:
     if (!replay) {
       rec.recovery = false;
       const double big = de.cwiseAbs().maxCoeff();
-      rec.substeps = std::clamp(static_cast<int>(std::ceil(big / c_.max_substep_strain)), 1, 100000);
+      rec.substeps = c_.update == Update::explicit_step
+                         ? 1
+                         : std::clamp(static_cast<int>(std::ceil(big / c_.max_substep_strain)), 1, 100000);
       rec.alpha.assign(static_cast<std::size_t>(rec.substeps), 0.0);
     }
     const Vec6 dd = de / rec.substeps;
@@ -305,8 +307,16 @@ public:
           alpha = 0.0;
         rec.alpha[static_cast<std::size_t>(k)] = alpha;
       }
-      if (alpha > 0.0) s = heun(s, alpha * dd, true);
-      if (alpha < 1.0) s = heun(s, (1.0 - alpha) * dd, false);
+      if (c_.update == Update::explicit_step) {
+        // The moduli of the step's start on both parts: the stress is linear in the increment
+        // for a given branch split, so global Newton sees a piecewise-linear material.
+        const Vec6 s0 = s;
+        if (alpha > 0.0) s += stiffness(s0, true) * (alpha * dd);
+        if (alpha < 1.0) s += stiffness(s0, false) * ((1.0 - alpha) * dd);
+      } else {
+        if (alpha > 0.0) s = heun(s, alpha * dd, true);
+        if (alpha < 1.0) s = heun(s, (1.0 - alpha) * dd, false);
+      }
       if (c_.tension_cutoff) s = cut_tension(s);
       const Point pe = point(s);
       h[0] = std::max(h[0], pe.S);

@@ -27,9 +27,10 @@ inline void declare(Schema& s, Family fam) {
     s.text("form", {"E_nu", "E_B"},
            "E_nu: E_t (2.31) and nu_t (2.35); E_B: E_t (2.31) and the bulk modulus B_t (2.36), nu_t (2.39)")
         .defaults_to(std::string("E_nu"));
-    s.text("update", {"recovery", "incremental"},
+    s.text("update", {"recovery", "incremental", "explicit"},
            "recovery: the author's stress from total strain (4.46)-(4.49) while loading; incremental: "
-           "substepped tangent integration")
+           "substepped tangent integration; explicit: one forward-Euler step with the moduli of the "
+           "step's start (the classical load-step method)")
         .defaults_to(std::string("incremental"));
   }
   s.text("unloading", {"F_sr", "max_deviator"},
@@ -111,7 +112,10 @@ inline Constants read(const Params& p, Family fam) {
   Constants c;
   if (fam == Family::duncan_chang) {
     c.form = p.text("form") == "E_B" ? Form::E_B : Form::E_nu;
-    c.update = p.text("update") == "recovery" ? Update::recovery : Update::incremental;
+    const std::string up = p.text("update");
+    c.update = up == "recovery"   ? Update::recovery
+               : up == "explicit" ? Update::explicit_step
+                                  : Update::incremental;
     c.bulk_stress = p.text("bulk_stress") == "sigma_3" ? BulkStress::sigma_3 : BulkStress::sigma_m;
     c.nu_max = p.real("nu_max");
     c.nu_min = p.real("nu_min");

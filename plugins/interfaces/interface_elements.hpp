@@ -22,13 +22,18 @@
 
 namespace stratum::interfaces {
 
-/// Calls the contact law at one point: jump_n and djump in local (t, n) axes. Writes the trial slot.
-inline Outcome contact_point(const ContactLaw& law, StateStore& states, std::size_t p, const Vec2& jump_n,
-                             const Vec2& jump, int element, int point, Vec2& traction, Mat2& tangent) {
+/// Calls the contact law at one point with the jump increment djump (local t, n axes) of the
+/// step. The jump at t_n is the committed one (strain[0..1]), not one recomputed from the nodal
+/// displacements: an interface placed into a deformed configuration (a pile cast in a bored hole
+/// whose wall has moved) or kept across a reset of the displacements starts from the jump its
+/// placement gave it. Writes the trial slot.
+inline Outcome contact_point(const ContactLaw& law, StateStore& states, std::size_t p, const Vec2& djump,
+                             int element, int point, Vec2& traction, Mat2& tangent) {
   const auto committed = states.committed(p);
   auto trial = states.trial(p);
   const Vec2 traction_n(committed.stress()[0], committed.stress()[1]);
-  const Vec2 djump = jump - jump_n;
+  const Vec2 jump_n(committed.strain()[0], committed.strain()[1]);
+  const Vec2 jump = jump_n + djump;
   ContactInput in{traction_n, jump_n, committed.history(), djump, PointContext{element, point}};
   ContactOutput out{traction, trial.history(), tangent};
   Outcome o = law.update(in, out);
@@ -122,11 +127,10 @@ public:
                                 bool want_tangent, ElementResult& out) const override {
     if (!law.contact) return missing_law(cell.id, "contact2");
     const Geometry g = geometry(cell);
-    const Vec2 jump = g.R * (u.segment<2>(2) - u.segment<2>(0));
-    const Vec2 jump_n = g.R * (u_n.segment<2>(2) - u_n.segment<2>(0));
+    const Vec2 djump = g.R * ((u - u_n).segment<2>(2) - (u - u_n).segment<2>(0));
     Vec2 tr;
     Mat2 D;
-    if (Outcome o = contact_point(*law.contact, states, first_point, jump_n, jump, cell.id, 0, tr, D);
+    if (Outcome o = contact_point(*law.contact, states, first_point, djump, cell.id, 0, tr, D);
         !o.ok())
       return o;
     const auto nd = 2 * cell.x->rows();
@@ -268,11 +272,11 @@ public:
         B.middleCols<2>(2 * side1[k]) = -N[k] * R;
         B.middleCols<2>(2 * side2[k]) = N[k] * R;
       }
-      const Vec2 jump = B * u, jump_n = B * u_n;
+      const Vec2 djump = B * (u - u_n);
       Vec2 tr;
       Mat2 D;
-      if (Outcome o = contact_point(*law.contact, states, first_point + static_cast<std::size_t>(q), jump_n,
-                                    jump, cell.id, q, tr, D);
+      if (Outcome o = contact_point(*law.contact, states, first_point + static_cast<std::size_t>(q), djump,
+                                    cell.id, q, tr, D);
           !o.ok())
         return o;
       const double dA = rule_ == LineRule::gauss ? w[q] * J * radial(x.x())
