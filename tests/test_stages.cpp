@@ -4,6 +4,7 @@
 
 #include "checkpoint.hpp"
 #include "stratum/error.hpp"
+#include "stratum/interfaces.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -469,4 +470,137 @@ gamma = 1.0
 name = "x"
 )"),
                     Catch::Contains("cannot be combined with [[stages]]"));
+}
+
+TEST_CASE("a pile cast into a bored hole keeps the fresh-concrete pressure on its interface",
+          "[stages]") {
+  // Geostatic K0 state, the hole bored under the fresh-concrete pressure gamma_c z (the wall moves
+  // out), then the pile and its interface placed with that fluid stress and the pressure removed:
+  // the swap is an exact equilibrium, so every shaft point carries sigma_n = -gamma_c z and the
+  // wall does not move back (interfaces count their jump from the placed state, not from the
+  // nodal displacements of the moved wall and the new pile nodes).
+  const double gc = 24.0;
+  auto a = scene(R"(
+[analysis]
+formulation = "axisymmetric"
+[mesh]
+generator = "axisymmetric_pile"
+nodes_per_cell = 8
+[mesh.pile]
+radius = 0.135
+length = 3.0
+near_radius = 1.35
+near_depth = 4.5
+domain_radius = 6.0
+domain_depth = 9.0
+n_pile = 1
+n_shaft = 6
+n_near = 4
+n_far = 3
+n_below = 3
+n_deep = 2
+[materials.soil]
+model = "linear_elastic"
+E = 20000.0
+nu = 0.3
+[materials.concrete]
+model = "linear_elastic"
+E = 31.5e6
+nu = 0.2
+[[domains]]
+cells = "soil"
+element = "quad"
+material = "soil"
+[[domains]]
+cells = "pile"
+element = "quad"
+material = "concrete"
+[contact_laws.shaft]
+model = "goodman_nonlinear"
+k_s0 = 1.0
+alpha = 24100.0
+m = 0.89
+c_peak = 10.0
+phi_peak = 29.0
+c_residual = 10.0
+phi_residual = 29.0
+k_n = 1.0e7
+[[interfaces]]
+name = "pile_interface"
+edges = "hole"
+cells = "pile"
+element = "interface_line"
+law = "shaft"
+[[constraints]]
+nodes = "axis"
+ux = 0.0
+[[constraints]]
+nodes = "far_side"
+ux = 0.0
+[[constraints]]
+nodes = "bottom"
+ux = 0.0
+uy = 0.0
+[[stages]]
+name = "geostatic"
+[[stages.actions]]
+type = "deactivate"
+cells = "pile"
+[[stages.actions]]
+type = "deactivate"
+cells = "pile_interface"
+[[stages.actions]]
+type = "geostatic"
+cells = "soil"
+gamma = 17.4
+K0 = 0.56
+[[stages]]
+name = "boring"
+steps = 2
+[[stages.actions]]
+type = "deactivate"
+cells = "bore"
+[[stages.actions]]
+type = "pressure"
+name = "fresh_concrete"
+edges = "hole"
+gamma = 24.0
+[[stages]]
+name = "concrete"
+[[stages.actions]]
+type = "activate"
+cells = "pile"
+stress = "hydrostatic"
+gamma = 24.0
+[[stages.actions]]
+type = "activate"
+cells = "pile_interface"
+stress = "hydrostatic"
+gamma = 24.0
+[[stages.actions]]
+type = "remove"
+name = "fresh_concrete"
+[[stages.actions]]
+type = "gravity"
+name = "pile_weight"
+cells = "pile"
+gamma = 24.0
+)");
+  auto s = a->run();
+  REQUIRE(s.outcome.ok());
+  const Model& m = a->model();
+  const Domain* iface = nullptr;
+  for (const auto& dm : m.domains)
+    if (dm.law.contact) iface = &dm;
+  REQUIRE(iface != nullptr);
+  const auto pts = interface_points(m, *iface);
+  REQUIRE(pts.size() > 10);
+  double worst = 0.0;
+  for (const auto& p : pts) {
+    const double depth = -p.x.y();
+    worst = std::max(worst, std::abs(p.traction[1] + gc * depth));
+    CHECK(p.state != ContactState::open);
+  }
+  INFO("largest |sigma_n + gamma_c z| on the shaft and base: " << worst << " kPa");
+  CHECK(worst < 1e-6 * gc * 3.0);
 }
