@@ -45,7 +45,7 @@ TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_
   replace(scene, "n_far = 5", "n_far = 2");
   replace(scene, "n_below = 6", "n_below = 3");
   replace(scene, "n_deep = 3", "n_deep = 1");
-  replace(scene, "steps = 10                 # 15 kN per step", "steps = 2");
+  replace(scene, "steps = 60 ", "steps = 2 ");
   replace(scene, "force = 150.0", "force = 10.0");
   std::ofstream(dir / "pile.toml") << scene;
   const std::string exe = std::string("STRATUM_PLUGIN_PATH=") + STRATUM_PLUGIN_DIR + " " + STRATUM_EXE;
@@ -57,6 +57,27 @@ TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_
   CHECK(ls.rfind("load_kN,settlement_mm\n0,0\n", 0) == 0);
   CHECK(std::count(ls.begin(), ls.end(), '\n') == 4); // header, 0, 5 and 10 kN
   CHECK(slurp(res / "curves" / "axial_force.csv").rfind("load_kN,depth_m,axial_force_kN\n", 0) == 0);
+  {
+    // The shaft carries load: at 10 kN the axial force at the deepest section is well below the
+    // force near the head (it was not when the shaft interface opened in the concrete stage).
+    std::istringstream in(slurp(res / "curves" / "axial_force.csv"));
+    std::string line;
+    std::getline(in, line);
+    double top = -1.0, bottom = -1.0, top_depth = 1e9, bottom_depth = -1.0;
+    while (std::getline(in, line)) {
+      double load = 0, depth = 0, force = 0;
+      char c1 = 0, c2 = 0;
+      std::istringstream row(line);
+      row >> load >> c1 >> depth >> c2 >> force;
+      if (std::abs(load - 10.0) > 1e-9) continue;
+      if (depth < top_depth) top_depth = depth, top = force;
+      if (depth > bottom_depth) bottom_depth = depth, bottom = force;
+    }
+    INFO("axial force at 10 kN: " << top << " kN at " << top_depth << " m, " << bottom << " kN at "
+                                   << bottom_depth << " m");
+    CHECK(top == Approx(10.0).epsilon(0.05));
+    CHECK(bottom < 0.8 * top);
+  }
   CHECK(slurp(res / "curves" / "shaft_traction.csv")
             .rfind("load_kN,depth_m,shear_traction_kPa,normal_traction_kPa,slip_mm,status\n", 0) == 0);
   CHECK(fs::exists(res / "pile.pvd"));
