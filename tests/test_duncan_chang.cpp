@@ -497,8 +497,7 @@ TEST_CASE("duncan_chang: finite-difference check of the tangent", "[duncan_chang
   CHECK(err < 1e-5);
 }
 
-TEST_CASE("duncan_chang: the explicit update is one forward-Euler step of the hyperbola",
-          "[duncan_chang]") {
+TEST_CASE("duncan_chang: the explicit update is one forward-Euler step of the hyperbola", "[duncan_chang]") {
   // update = "explicit": sigma = sigma_n + D(sigma_n) d eps on the branch of the E_ur trial; its
   // tangent is D(sigma_n) itself, so global Newton sees a piecewise-linear law.
   const dc::Set a = loess_a();
@@ -529,7 +528,7 @@ TEST_CASE("duncan_chang: the explicit update is one forward-Euler step of the hy
   };
   const double e100 = error(100), e200 = error(200), e400 = error(400);
   REPORT("explicit: max |q - hyperbola|/q_f with 100, 200, 400 steps: " << e100 << ", " << e200 << ", "
-                                                                         << e400);
+                                                                        << e400);
   CHECK(e100 / e200 == Approx(2.0).epsilon(0.15));
   CHECK(e200 / e400 == Approx(2.0).epsilon(0.15));
   CHECK(e400 < 1e-2);

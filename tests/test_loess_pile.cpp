@@ -74,7 +74,7 @@ TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_
       if (depth > bottom_depth) bottom_depth = depth, bottom = force;
     }
     INFO("axial force at 10 kN: " << top << " kN at " << top_depth << " m, " << bottom << " kN at "
-                                   << bottom_depth << " m");
+                                  << bottom_depth << " m");
     CHECK(top == Approx(10.0).epsilon(0.05));
     CHECK(bottom < 0.8 * top);
   }

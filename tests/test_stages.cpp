@@ -472,8 +472,7 @@ name = "x"
                     Catch::Contains("cannot be combined with [[stages]]"));
 }
 
-TEST_CASE("a pile cast into a bored hole keeps the fresh-concrete pressure on its interface",
-          "[stages]") {
+TEST_CASE("a pile cast into a bored hole keeps the fresh-concrete pressure on its interface", "[stages]") {
   // Geostatic K0 state, the hole bored under the fresh-concrete pressure gamma_c z (the wall moves
   // out), then the pile and its interface placed with that fluid stress and the pressure removed:
   // the swap is an exact equilibrium, so every shaft point carries sigma_n = -gamma_c z and the

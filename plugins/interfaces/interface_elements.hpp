@@ -130,8 +130,7 @@ public:
     const Vec2 djump = g.R * ((u - u_n).segment<2>(2) - (u - u_n).segment<2>(0));
     Vec2 tr;
     Mat2 D;
-    if (Outcome o = contact_point(*law.contact, states, first_point, djump, cell.id, 0, tr, D);
-        !o.ok())
+    if (Outcome o = contact_point(*law.contact, states, first_point, djump, cell.id, 0, tr, D); !o.ok())
       return o;
     const auto nd = 2 * cell.x->rows();
     out.force.setZero(nd);
