@@ -310,9 +310,13 @@ public:
       if (c_.update == Update::explicit_step) {
         // The moduli of the step's start on both parts: the stress is linear in the increment
         // for a given branch split, so global Newton sees a piecewise-linear material.
-        const Vec6 s0 = s;
-        if (alpha > 0.0) s += stiffness(s0, true) * (alpha * dd);
-        if (alpha < 1.0) s += stiffness(s0, false) * ((1.0 - alpha) * dd);
+        const Point p0 = point(s);
+        auto D = [&](bool unloading) {
+          const Moduli mo = moduli(p0, unloading);
+          return stiffness_kg(mo.K, mo.G);
+        };
+        if (alpha > 0.0) s += D(true) * (alpha * dd);
+        if (alpha < 1.0) s += D(false) * ((1.0 - alpha) * dd);
       } else {
         if (alpha > 0.0) s = heun(s, alpha * dd, true);
         if (alpha < 1.0) s = heun(s, (1.0 - alpha) * dd, false);

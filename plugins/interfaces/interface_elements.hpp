@@ -127,7 +127,7 @@ public:
                                 bool want_tangent, ElementResult& out) const override {
     if (!law.contact) return missing_law(cell.id, "contact2");
     const Geometry g = geometry(cell);
-    const Vec2 djump = g.R * ((u - u_n).segment<2>(2) - (u - u_n).segment<2>(0));
+    const Vec2 djump = g.R * ((u.segment<2>(2) - u_n.segment<2>(2)) - (u.segment<2>(0) - u_n.segment<2>(0)));
     Vec2 tr;
     Mat2 D;
     if (Outcome o = contact_point(*law.contact, states, first_point, djump, cell.id, 0, tr, D); !o.ok())
@@ -254,6 +254,7 @@ public:
     out.force.setZero(ndof);
     if (want_tangent) out.stiffness.setZero(ndof, ndof);
     Eigen::Matrix<double, 2, Eigen::Dynamic> B(2, ndof);
+    const Eigen::VectorXd du = u - u_n;
     for (int q = 0; q < n; ++q) {
       shape_functions(n, xi[q], N, dN);
       Vec2 x = Vec2::Zero(), dx = Vec2::Zero();
@@ -271,7 +272,7 @@ public:
         B.middleCols<2>(2 * side1[k]) = -N[k] * R;
         B.middleCols<2>(2 * side2[k]) = N[k] * R;
       }
-      const Vec2 djump = B * (u - u_n);
+      const Vec2 djump = B * du;
       Vec2 tr;
       Mat2 D;
       if (Outcome o = contact_point(*law.contact, states, first_point + static_cast<std::size_t>(q), djump,
