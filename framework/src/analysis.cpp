@@ -863,6 +863,20 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
       a.nodes = q.text("nodes");
       if (at.get("ux")) a.ux = q.real("ux");
       if (at.get("uy")) a.uy = q.real("uy");
+    } else if (type == "load" && at.get("settlement")) {
+      // Head displacement: the top faces of a cell set (a pile head) pushed down by `settlement`
+      // over the stage; the head load is then the reaction on those nodes.
+      Schema g;
+      g.text("cells", {}, "cell set whose top faces are pushed down (a pile head)");
+      g.real("settlement", "m", "downward head displacement at the end of the stage").greater_than(0);
+      const auto q = check_table(at, g, actx + " type = \"load\" (head displacement)", {"type"});
+      if (!model.mesh.cell_sets.count(q.text("cells")))
+        throw Error(q.where("cells"),
+                    actx + " cells = \"" + q.text("cells") +
+                        "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
+      a.kind = Action::Kind::displacement;
+      a.cells = q.text("cells");
+      a.uy = -q.real("settlement");
     } else if (type == "reset_displacements") {
       (void)check_table(at, Schema{}, actx + " type = \"reset_displacements\"", {"type"});
       a.kind = Action::Kind::reset_displacements;
@@ -1057,6 +1071,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
 
   // ---- actions, in order
   const stage::LoadSpec* head = nullptr;
+  std::vector<int> head_disp; // nodes of a displacement-controlled pile head
   for (const Action& a : st.actions) {
     switch (a.kind) {
     case Action::Kind::geostatic:
@@ -1080,6 +1095,13 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
       std::erase_if(loads, [&](const stage::LoadSpec& l) { return l.name == a.name; });
       break;
     case Action::Kind::displacement:
+      if (!a.cells.empty()) { // head displacement of a pile: its current top nodes
+        stage::LoadSpec top;
+        top.set = a.cells, top.top_of_cells = true;
+        head_disp = stage::load_nodes(m, top);
+        for (int n : head_disp) m.constrained[2 * n + 1] = 1, m.prescribed[2 * n + 1] = a.uy;
+        break;
+      }
       for (int n : m.mesh.node_sets.at(a.nodes)) {
         if (std::isfinite(a.ux)) m.constrained[2 * n] = 1, m.prescribed[2 * n] = a.ux;
         if (std::isfinite(a.uy)) m.constrained[2 * n + 1] = 1, m.prescribed[2 * n + 1] = a.uy;
@@ -1126,14 +1148,28 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   if (!st.monitor.empty()) monitor = &m.mesh.node_sets.at(st.monitor);
   std::vector<int> head_nodes;
   if (head) head_nodes = stage::load_nodes(m, *head);
-  if (!monitor && head) monitor = &head_nodes;
+  const bool displaced_head = !head && !head_disp.empty();
+  if (displaced_head) head_nodes = head_disp;
+  const bool has_head = head || displaced_head;
+  if (!monitor && has_head) monitor = &head_nodes;
   const double force = head ? head->total_force : 0.0;
+  // The head load (kN, downward positive): the applied force, or the reaction on a displaced head.
+  // m.reactions holds the internal forces; a fixed DOF's external load is in load_base.
+  bool stepped = false;
+  auto head_load = [&] {
+    if (!displaced_head) return m.lambda * force;
+    double P = 0.0;
+    if (stepped)
+      for (int n : head_nodes) P -= m.reactions[2 * n + 1] - m.load_base[2 * n + 1];
+    return P;
+  };
   const std::vector<int>* pile = pile_cells.empty() ? nullptr : &m.mesh.cell_sets.at(pile_cells);
   auto record = [&] {
-    if (!head) return;
-    summary.load_settlement.push_back({m.lambda * force, 1e3 * mean_settlement(m, head_nodes)});
+    if (!has_head) return;
+    const double load = head_load();
+    summary.load_settlement.push_back({load, 1e3 * mean_settlement(m, head_nodes)});
     if (pile)
-      for (const auto& [y, n] : axial_profile(m, *pile)) axial_rows.push_back({m.lambda * force, y, n});
+      for (const auto& [y, n] : axial_profile(m, *pile)) axial_rows.push_back({load, y, n});
     // Shaft tractions: the interface points on the vertical wall (the largest radius).
     for (const auto& itf : interfaces.interfaces) {
       const auto pts = interface_points(m, m.domains[itf.domain]);
@@ -1141,11 +1177,11 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
       for (const auto& q : pts) rmax = std::max(rmax, q.x.x());
       for (const auto& q : pts)
         if (q.x.x() > rmax - 1e-9)
-          shaft_rows.push_back({m.lambda * force, q.x.y(), q.traction[0], q.traction[1], 1e3 * q.jump[0],
+          shaft_rows.push_back({load, q.x.y(), q.traction[0], q.traction[1], 1e3 * q.jump[0],
                                 static_cast<double>(static_cast<int>(q.state))});
     }
   };
-  if (head && summary.load_settlement.empty()) record();
+  if (has_head && summary.load_settlement.empty()) record();
 
   // ---- load steps (stratum/step_control.hpp)
   const int nominal_steps = st.increments.empty() ? st.steps : static_cast<int>(st.increments.size());
@@ -1176,6 +1212,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     m.lambda = rec.lambda;
     m.expand(x, m.lambda, m.u);
     m.reactions = problem.internal_force();
+    stepped = true;
     step = rec.step;
     ++summary.steps_done;
     time = static_cast<double>(k) + m.lambda;

@@ -56,8 +56,8 @@ struct Action {
   };
   Kind kind = Kind::geostatic;
   SourceLocation where;
-  std::string cells;                           ///< geostatic, deactivate, activate
-  std::string nodes;                           ///< displacement
+  std::string cells; ///< geostatic, deactivate, activate; displacement: the pile whose head is pushed
+  std::string nodes; ///< displacement
   double gamma = 0.0, K0 = 0.5, surface = 0.0; ///< geostatic; activate with hydrostatic stress
   bool hydrostatic = false;                    ///< activate: fresh-concrete (fluid) initial stress
   double ux = std::numeric_limits<double>::quiet_NaN(), uy = std::numeric_limits<double>::quiet_NaN();

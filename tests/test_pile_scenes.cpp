@@ -1,0 +1,162 @@
+// Piles through the full staged path on the axisymmetric_pile mesh (issue 7):
+// - E3: an elastic pile bonded to elastic soil, head stiffness against Randolph & Wroth (1978);
+// - C1: a stiff pile with a purely cohesive shaft interface, pushed down by a head displacement
+//   after self-weight, boring with fresh-concrete pressure and placing the concrete: the shaft
+//   slips everywhere at tau_max and carries 2 pi r0 L tau_max.
+#include "scene_helpers.hpp"
+
+#include "stratum/interfaces.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+using namespace stratum;
+using stratum::testing::scene;
+
+namespace {
+
+constexpr double pi = std::numbers::pi;
+
+/// Randolph & Wroth (1978) head stiffness P / (w G r0) of a compressible pile in homogeneous
+/// soil (rho = 1), verification catalogue E3.
+double randolph_wroth(double L, double r0, double Ep, double G, double nu) {
+  const double zeta = std::log(2.5 * L * (1 - nu) / r0);
+  const double lambda = Ep / G;
+  const double muL = std::sqrt(2.0 / (zeta * lambda)) * L / r0;
+  const double t = std::tanh(muL) / muL;
+  return (4 / (1 - nu) + 2 * pi / zeta * t * L / r0) / (1 + 4 / (1 - nu) / (pi * lambda) * t * L / r0);
+}
+
+struct StagedPile {
+  double r0 = 0.5, L = 20.0, Es = 26000.0, nu = 0.3, Ep = 30e6;
+  double near_radius = 5.0, near_depth = 30.0, domain_radius = 50.0, domain_depth = 60.0;
+  int n_shaft = 16, n_near = 8, n_far = 6, n_below = 6, n_deep = 4;
+  std::string loading; ///< the loading stage's actions
+  std::string extra;   ///< interface and contact-law tables
+  std::string concrete = "[[stages.actions]]\ntype = \"activate\"\ncells = \"pile\"\n";
+  int steps = 1;
+};
+
+std::string staged_pile_scene(const StagedPile& s) {
+  std::ostringstream t;
+  t.precision(17);
+  t << "[analysis]\nformulation = \"axisymmetric\"\n[convergence]\nforce_rtol = 1e-9\n";
+  t << "[mesh]\ngenerator = \"axisymmetric_pile\"\nnodes_per_cell = 8\n[mesh.pile]\n";
+  t << "radius = " << s.r0 << "\nlength = " << s.L << "\nnear_radius = " << s.near_radius
+    << "\nnear_depth = " << s.near_depth << "\ndomain_radius = " << s.domain_radius
+    << "\ndomain_depth = " << s.domain_depth << "\nn_shaft = " << s.n_shaft << "\nn_near = " << s.n_near
+    << "\nn_far = " << s.n_far << "\nn_below = " << s.n_below << "\nn_deep = " << s.n_deep << "\n";
+  t << "[materials.soil]\nmodel = \"linear_elastic\"\nE = " << s.Es << "\nnu = " << s.nu << "\n";
+  t << "[materials.concrete]\nmodel = \"linear_elastic\"\nE = " << s.Ep << "\nnu = 0.2\n";
+  for (const char* set : {"bore", "near", "far"})
+    t << "[[domains]]\ncells = \"" << set << "\"\nelement = \"quad\"\nmaterial = \"soil\"\n";
+  t << "[[domains]]\ncells = \"pile\"\nelement = \"quad\"\nmaterial = \"concrete\"\n";
+  t << s.extra;
+  t << "[[constraints]]\nnodes = \"axis\"\nux = 0.0\n[[constraints]]\nnodes = \"far_side\"\nux = 0.0\n";
+  t << "[[constraints]]\nnodes = \"bottom\"\nux = 0.0\nuy = 0.0\n";
+  t << "[output]\npile_cells = \"pile\"\n";
+  t << "[[stages]]\nname = \"geostatic\"\n[[stages.actions]]\ntype = \"deactivate\"\ncells = \"pile\"\n";
+  if (s.extra.find("[[interfaces]]") != std::string::npos)
+    t << "[[stages.actions]]\ntype = \"deactivate\"\ncells = \"shaft_interface\"\n";
+  t << "[[stages.actions]]\ntype = \"geostatic\"\ncells = \"soil\"\ngamma = 18.0\nK0 = 0.5\n";
+  t << "[[stages]]\nname = \"boring\"\nsteps = 2\n[[stages.actions]]\ntype = \"deactivate\"\ncells = "
+       "\"bore\"\n[[stages.actions]]\ntype = \"pressure\"\nname = \"fresh_concrete\"\nedges = \"hole\"\n"
+       "gamma = 24.0\n";
+  t << "[[stages]]\nname = \"concrete\"\n" << s.concrete;
+  t << "[[stages.actions]]\ntype = \"remove\"\nname = \"fresh_concrete\"\n";
+  t << "[[stages.actions]]\ntype = \"gravity\"\nname = \"pile_weight\"\ncells = \"pile\"\ngamma = 24.0\n";
+  t << "[[stages]]\nname = \"loading\"\nsteps = " << s.steps
+    << "\n[[stages.actions]]\ntype = \"reset_displacements\"\n"
+    << s.loading;
+  return t.str();
+}
+
+} // namespace
+
+TEST_CASE("E3 guard: the Randolph-Wroth formula reproduces the catalogue's worked case", "[verification]") {
+  const double G = 10e3;
+  CHECK(randolph_wroth(20.0, 0.5, 30e6, G, 0.3) == Approx(59.0485).epsilon(1e-5));
+}
+
+TEST_CASE("E3 elastic pile through the staged path: head stiffness within 15 % of Randolph-Wroth",
+          "[stages][verification]") {
+  StagedPile s;
+  const double P = 1000.0;
+  s.loading = "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nforce = " + std::to_string(P) + "\n";
+  auto a = scene(staged_pile_scene(s), "e3_pile.toml");
+  const auto run = a->run();
+  INFO(run.outcome.message);
+  REQUIRE(run.outcome.ok());
+  REQUIRE(run.load_settlement.size() == 2);
+  CHECK(run.load_settlement.front()[0] == 0.0);
+  CHECK(run.load_settlement.front()[1] == 0.0);
+  const double w = 1e-3 * run.load_settlement.back()[1];
+  const double G = s.Es / (2 * (1 + s.nu));
+  const double fe = P / (w * G * s.r0);
+  const double rw = randolph_wroth(s.L, s.r0, s.Ep, G, s.nu);
+  CAPTURE(fe, rw, w);
+  CHECK(std::abs(fe - rw) <= 0.15 * rw);
+
+  // The same pile under a head displacement: the head load is the reaction on the head nodes. The
+  // pile is stiff (E_p / G = 3000), so a uniform head displacement and a uniform head pressure give
+  // the same stiffness to well within 1 %.
+  s.loading =
+      "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nsettlement = " + std::to_string(w) + "\n";
+  auto b = scene(staged_pile_scene(s), "e3_pile_displaced.toml");
+  const auto run_b = b->run();
+  INFO(run_b.outcome.message);
+  REQUIRE(run_b.outcome.ok());
+  REQUIRE(run_b.load_settlement.size() == 2);
+  CHECK(run_b.load_settlement.front()[0] == 0.0);
+  CHECK(run_b.load_settlement.back()[1] == Approx(1e3 * w).epsilon(1e-9));
+  CHECK(run_b.load_settlement.back()[0] == Approx(P).epsilon(0.01));
+}
+
+TEST_CASE("C1 stiff pile with shaft slip through the staged path: the shaft carries 2 pi r0 L tau_max",
+          "[stages][contact]") {
+  // A short stiff pile; the interface is purely cohesive (phi = 0), so its strength does not depend
+  // on the normal stress the boring and the fresh concrete left on it.
+  StagedPile s;
+  s.r0 = 0.25, s.L = 3.0, s.Es = 20000.0, s.Ep = 1e9;
+  s.near_radius = 2.0, s.near_depth = 4.5, s.domain_radius = 6.0, s.domain_depth = 9.0;
+  s.n_shaft = 10, s.n_near = 6, s.n_far = 3, s.n_below = 4, s.n_deep = 2;
+  const double tau = 15.0, ks = 1e5;
+  s.extra = "[contact_laws.shaft]\nmodel = \"coulomb_elastoplastic\"\nk_s = " + std::to_string(ks) +
+            "\nk_n = 1e6\nc = " + std::to_string(tau) +
+            "\nsigma_t = 1000.0\n[[interfaces]]\nname = \"shaft_interface\"\nedges = \"hole\"\ncells = "
+            "\"pile\"\nelement = \"interface_line\"\nlaw = \"shaft\"\ncsv = false\n";
+  s.concrete = "[[stages.actions]]\ntype = \"activate\"\ncells = \"pile\"\nstress = \"hydrostatic\"\ngamma = "
+               "24.0\n[[stages.actions]]\ntype = \"activate\"\ncells = \"shaft_interface\"\nstress = "
+               "\"hydrostatic\"\ngamma = 24.0\n";
+  const double w_max = 0.02;
+  s.steps = 20;
+  s.loading =
+      "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nsettlement = " + std::to_string(w_max) + "\n";
+  auto a = scene(staged_pile_scene(s), "c1_pile.toml");
+  const auto run = a->run();
+  INFO(run.outcome.message);
+  REQUIRE(run.outcome.ok());
+  REQUIRE(run.load_settlement.size() == 21);
+  CHECK(run.load_settlement.back()[1] == Approx(1e3 * w_max).epsilon(1e-9));
+  // At the end every point on the shaft wall slips at tau_max (pile moving down: shear on the soil
+  // side is downward), so the shaft carries exactly 2 pi r0 L tau_max whatever the quadrature.
+  const Model& m = a->model();
+  int shaft_points = 0;
+  for (const auto& d : m.domains) {
+    const auto pts = interface_points(m, d);
+    for (const auto& q : pts) {
+      if (std::abs(q.x.x() - s.r0) > 1e-9 || q.x.y() < -s.L + 1e-9) continue;
+      ++shaft_points;
+      CAPTURE(q.x.y(), q.traction[0], q.traction[1]);
+      CHECK(std::abs(q.traction[0]) == Approx(tau).epsilon(1e-6));
+      CHECK(q.state == ContactState::slip);
+    }
+  }
+  CHECK(shaft_points >= 2 * s.n_shaft);
+  // The base carries the rest: the head load exceeds the shaft's share.
+  const double shaft_capacity = 2 * pi * s.r0 * s.L * tau;
+  CHECK(run.load_settlement.back()[0] > shaft_capacity);
+}
