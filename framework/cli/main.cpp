@@ -182,6 +182,16 @@ int run(const std::vector<std::string>& args, bool check_only) {
   std::cout << "done: " << s.steps_done << " steps";
   if (s.cutbacks) std::cout << " (" << s.cutbacks << " cut-backs)";
   std::cout << "\n";
+  {
+    const RunTimes& t = s.times;
+    std::cout << std::fixed << std::setprecision(3) << "time: " << t.total
+              << " s: assembly and stress update " << t.assembly << " s (" << t.assemblies
+              << "), linear solver " << t.analyze + t.factorize + t.solve << " s (analyze " << t.analyze
+              << " x" << t.analyses << ", factorize " << t.factorize << " x" << t.factorizations << ", solve "
+              << t.solve << " x" << t.solves << "), output " << t.output << " s, checkpoints " << t.checkpoint
+              << " s\n"
+              << std::defaultfloat;
+  }
   if (s.stop_reason == "failure")
     std::cout << "stopped: a load step did not converge after its cut-backs (collapse, or a numerical "
                  "failure: see diagnostics.csv); the table ends at the last converged level\n";

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -27,6 +28,10 @@ namespace stratum {
 
 namespace {
 
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 using io::check_table;
 using io::location;
 using io::require_string;
@@ -35,13 +40,17 @@ using io::show;
 /// Static equilibrium of the model: R(u, lambda) = F_base + lambda F_ref - F_int(u).
 class StaticProblem final : public NonlinearProblem {
 public:
-  StaticProblem(Model& m, const Assembler& a, LinearSolver& ls) : m_(m), a_(a), ls_(ls) {
+  StaticProblem(Model& m, const Assembler& a, LinearSolver& ls, RunTimes& times)
+      : m_(m), a_(a), ls_(ls), times_(times) {
     ref_ = m.restrict_free(m.load_ref);
   }
   Eigen::Index size() const override { return m_.dofs.free_count; }
   Outcome evaluate(const Eigen::VectorXd& u, double lambda, Eigen::VectorXd& r, SparseMatrix* k) override {
     m_.expand(u, lambda, full_);
+    const auto t0 = std::chrono::steady_clock::now();
     Outcome o = a_.assemble(m_, full_, fint_, k);
+    times_.assembly += seconds_since(t0);
+    ++times_.assemblies;
     if (!o.ok()) return o;
     r.resize(size());
     for (int d = 0; d < m_.dofs.total(); ++d)
@@ -68,7 +77,41 @@ private:
   Model& m_;
   const Assembler& a_;
   LinearSolver& ls_;
+  RunTimes& times_;
   Eigen::VectorXd ref_, full_, fint_;
+};
+
+/// Forwards to a linear solver and adds the time of each call to the run's RunTimes.
+class TimedLinearSolver final : public LinearSolver {
+public:
+  TimedLinearSolver(std::unique_ptr<LinearSolver> inner, RunTimes& times)
+      : inner_(std::move(inner)), times_(times) {}
+  std::string name() const override { return inner_->name(); }
+  Outcome analyze(const SparseMatrix& a) override {
+    const auto t0 = std::chrono::steady_clock::now();
+    Outcome o = inner_->analyze(a);
+    times_.analyze += seconds_since(t0);
+    ++times_.analyses;
+    return o;
+  }
+  Outcome factorize(const SparseMatrix& a) override {
+    const auto t0 = std::chrono::steady_clock::now();
+    Outcome o = inner_->factorize(a);
+    times_.factorize += seconds_since(t0);
+    ++times_.factorizations;
+    return o;
+  }
+  Outcome solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    const auto t0 = std::chrono::steady_clock::now();
+    Outcome o = inner_->solve(b, x);
+    times_.solve += seconds_since(t0);
+    ++times_.solves;
+    return o;
+  }
+
+private:
+  std::unique_ptr<LinearSolver> inner_;
+  RunTimes& times_;
 };
 
 /// Tangent (Euler) predictor for a step from lambda_n to lambda: u += K_n^-1 dR/dlambda (lambda -
@@ -1117,7 +1160,8 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   // ---- the stage's problem: equilibrium at its start, the target load at its end
   m.rebuild_dofs();
   const Assembler assembler(m);
-  auto ls = make_linear_solver(linear_solver, m.symmetric(), m.dofs.free_count);
+  auto ls = std::make_unique<TimedLinearSolver>(
+      make_linear_solver(linear_solver, m.symmetric(), m.dofs.free_count), summary.times);
   {
     SparseMatrix kpat = assembler.make_matrix();
     if (auto o = ls->analyze(kpat); !o.ok()) {
@@ -1142,7 +1186,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   for (int d = 0; d < m.dofs.total(); ++d)
     if (m.dofs.eq[static_cast<std::size_t>(d)] < 0) m.load_base[d] = target[d], m.load_ref[d] = 0.0;
   m.lambda = 0.0;
-  StaticProblem problem(m, assembler, *ls);
+  StaticProblem problem(m, assembler, *ls, summary.times);
 
   const std::vector<int>* monitor = nullptr;
   if (!st.monitor.empty()) monitor = &m.mesh.node_sets.at(st.monitor);
@@ -1219,7 +1263,11 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     if (options.on_step) options.on_step(step, nominal_steps, m.lambda, rep);
     if (options.on_record) options.on_record(rec);
     written = writer && st.vtk && step % st.every == 0;
-    if (written) write_step(*writer, time);
+    if (written) {
+      const auto t0 = std::chrono::steady_clock::now();
+      write_step(*writer, time);
+      summary.times.output += seconds_since(t0);
+    }
     record();
   };
   bool settled = false;
@@ -1234,7 +1282,11 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     r.stage = static_cast<int>(k) + 1;
     summary.records.push_back(std::move(r));
   }
-  if (writer && st.vtk && step > 0 && !written) write_step(*writer, time);
+  if (writer && st.vtk && step > 0 && !written) {
+    const auto t0 = std::chrono::steady_clock::now();
+    write_step(*writer, time);
+    summary.times.output += seconds_since(t0);
+  }
   if (!res.outcome.ok()) {
     if (st.until_failure) {
       summary.stop_reason = "failure";
@@ -1256,6 +1308,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
 }
 
 RunSummary Analysis::run() {
+  const auto t_run = std::chrono::steady_clock::now();
   Impl& s = *impl_;
   Model& m = s.model;
   RunSummary summary;
@@ -1286,7 +1339,9 @@ RunSummary Analysis::run() {
   std::unique_ptr<VtkSeriesWriter> writer;
   if (s.options.write_output && s.vtk) {
     writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string());
+    const auto t0 = std::chrono::steady_clock::now();
     s.write_step(*writer, s.time);
+    summary.times.output += seconds_since(t0);
   }
   std::vector<std::array<double, 3>> axial_rows;
   for (std::size_t k = first; k < s.stages.size(); ++k) {
@@ -1294,6 +1349,7 @@ RunSummary Analysis::run() {
     if (!summary.outcome.ok()) break;
     summary.stages_done = static_cast<int>(k + 1);
     if (s.stages[k].checkpoint && s.options.write_output && go_on) {
+      const auto t_ckpt = std::chrono::steady_clock::now();
       Checkpoint c;
       c.fingerprint = s.fingerprint;
       c.stages_done = static_cast<int>(k + 1);
@@ -1310,6 +1366,7 @@ RunSummary Analysis::run() {
                             .string();
       write_checkpoint(path, c);
       summary.checkpoints.push_back(path);
+      summary.times.checkpoint += seconds_since(t_ckpt);
     }
     if (!go_on) {
       if (!summary.stop_reason.empty()) summary.stages_done = static_cast<int>(k); // ended early
@@ -1317,6 +1374,7 @@ RunSummary Analysis::run() {
     }
   }
   if (writer) summary.pvd = writer->pvd_path();
+  const auto t_out = std::chrono::steady_clock::now();
   if (s.options.write_output)
     write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
   if (s.options.write_output && !summary.load_settlement.empty()) {
@@ -1344,6 +1402,8 @@ RunSummary Analysis::run() {
       }
     }
   }
+  summary.times.output += seconds_since(t_out);
+  summary.times.total = seconds_since(t_run);
   return summary;
 }
 

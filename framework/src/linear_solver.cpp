@@ -29,7 +29,9 @@ public:
   std::string name() const override { return name_; }
   Outcome analyze(const SparseMatrix& a) override {
     solver_.analyzePattern(a);
-    if (solver_.info() != Eigen::Success)
+    // Eigen's SparseLU sets info() only in factorize(): before that it is uninitialised.
+    constexpr bool sets_info = !std::is_same_v<S, Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>>;
+    if (sets_info && solver_.info() != Eigen::Success)
       return Outcome::failure(Status::singular, name_ + ": symbolic analysis failed");
     analyzed_ = true;
     return {};
@@ -70,9 +72,14 @@ std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name, bool s
   std::string n = name;
   if (n == "auto") {
     // Below a few thousand unknowns the supernodal machinery costs more than it saves
-    // (docs/linear-solvers.md); Eigen's simplicial LDL^T is the faster choice there.
+    // (docs/design.md); Eigen's simplicial LDL^T is the faster choice there. For unsymmetric
+    // tangents UMFPACK allocates its numeric workspace at every factorization, which at the
+    // pile scene's ~2000 unknowns cost more than Eigen's SparseLU (docs/benchmarks.md, profile).
     constexpr Eigen::Index small = 3000;
-    n = symmetric ? (unknowns < small ? "eigen_ldlt" : "cholmod") : "umfpack";
+    if (symmetric)
+      n = unknowns < small ? "eigen_ldlt" : "cholmod";
+    else
+      n = unknowns < small ? "eigen_lu" : "umfpack";
   }
   if (n == "cholmod")
     return std::make_unique<EigenBacked<Eigen::CholmodDecomposition<SparseMatrix, Eigen::Lower>>>(n);

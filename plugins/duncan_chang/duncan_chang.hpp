@@ -107,6 +107,16 @@ struct Principal {
   double s1 = 0, s2 = 0, s3 = 0;
 };
 [[nodiscard]] inline Principal principal(const Vec6& sigma) {
+  if (sigma[4] == 0.0 && sigma[5] == 0.0) {
+    // Plane strain and axisymmetry (the profile's hot spot): sigma_zz is principal and the
+    // in-plane pair has a closed form, exact to round-off.
+    const double m = 0.5 * (sigma[0] + sigma[1]), r = std::hypot(0.5 * (sigma[0] - sigma[1]), sigma[3]);
+    double a = m - r, b = m + r, c = sigma[2]; // sort ascending (tension positive)
+    if (c < a) std::swap(a, c);
+    if (c < b) std::swap(b, c);
+    if (b < a) std::swap(a, b);
+    return {-a, -b, -c};
+  }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(stress_tensor(sigma), Eigen::EigenvaluesOnly);
   const auto& v = es.eigenvalues(); // ascending, tension positive
   return {-v[0], -v[1], -v[2]};
@@ -395,6 +405,20 @@ public:
 
   /// Sets tensile principal stresses to zero (principal directions kept).
   [[nodiscard]] static Vec6 cut_tension(const Vec6& s) {
+    if (s[4] == 0.0 && s[5] == 0.0) {
+      // Plane strain and axisymmetry: sigma_zz is principal, the in-plane pair in closed form.
+      const double m = 0.5 * (s[0] + s[1]), h = 0.5 * (s[0] - s[1]), r = std::hypot(h, s[3]);
+      if (std::max(m + r, s[2]) <= 0.0) return s;
+      const double l1 = std::min(m + r, 0.0), l2 = std::min(m - r, 0.0);
+      // Direction of the larger in-plane principal stress: (cos t, sin t), t = atan2(s_xy, h) / 2.
+      const double t = 0.5 * std::atan2(s[3], h), c = std::cos(t), sn = std::sin(t);
+      Vec6 out = Vec6::Zero();
+      out[0] = l1 * c * c + l2 * sn * sn;
+      out[1] = l1 * sn * sn + l2 * c * c;
+      out[2] = std::min(s[2], 0.0);
+      out[3] = (l1 - l2) * sn * c;
+      return out;
+    }
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(stress_tensor(s));
     if (es.eigenvalues()[2] <= 0.0) return s;
     Eigen::Vector3d v = es.eigenvalues();

@@ -30,8 +30,21 @@ struct RunOptions {
   std::function<void(const StepRecord&)> on_record;
 };
 
+/// Where a run's time went (seconds, std::chrono::steady_clock) and how often each part ran.
+struct RunTimes {
+  double assembly = 0.0;  ///< residual and tangent assembly, the material updates included
+  double analyze = 0.0;   ///< symbolic factorization (once per stage)
+  double factorize = 0.0; ///< numeric factorizations
+  double solve = 0.0;     ///< forward and back substitutions
+  double output = 0.0;    ///< VTK steps, curves, diagnostics
+  double checkpoint = 0.0;
+  double total = 0.0; ///< the whole Analysis::run()
+  long assemblies = 0, analyses = 0, factorizations = 0, solves = 0;
+};
+
 struct RunSummary {
   Outcome outcome;
+  RunTimes times;
   int steps_done = 0;
   int cutbacks = 0;
   std::vector<StepReport> reports; ///< every attempted step, failed ones included
