@@ -19,6 +19,7 @@
 // README.md in this folder describes what is timed and the columns.
 #include "docs_section.hpp"
 #include "stratum/analysis.hpp"
+#include "stratum/linear_solver.hpp"
 #include "stratum/model.hpp"
 
 #include <sys/wait.h>
@@ -381,6 +382,8 @@ double run_ccx(const Options& o, const fs::path& dir) {
 struct Sample {
   double build = 0, run = 0, write = 0; ///< Stratum: from_string, run(), writing the results
   double ccx = 0;                       ///< the whole ccx process
+  double assembly = 0;  ///< Stratum's split, measured after run(): one assemble() with the tangent
+  double factorize = 0; ///< analyze + factorize of that tangent with the "auto" linear solver
   int free = 0, iterations = 0, ccx_iterations = 0;
   long long ccx_equations = 0;
   // comparisons
@@ -446,6 +449,23 @@ Sample measure(const Spec& p, const Size& s, const Options& o, const fs::path& d
   r.u_a_ccx = mean_ur(theirs.u, left);
   r.u_b = mean_ur(mine.u, right);
   r.u_b_ccx = mean_ur(theirs.u, right);
+  // Stratum's split (not part of its time above): one assembly with the tangent at the converged
+  // state and one analyze + factorize of it, the cost of a Newton iteration.
+  {
+    stratum::Model& mm = analysis->model();
+    const stratum::Assembler assembler(mm);
+    stratum::SparseMatrix k = assembler.make_matrix();
+    Eigen::VectorXd f_int;
+    t = Clock::now();
+    if (auto out = assembler.assemble(mm, mm.u, f_int, &k); !out.ok())
+      throw stratum::Error("bench_ccx: assembly failed: " + out.message);
+    r.assembly = seconds_since(t);
+    auto ls = stratum::make_linear_solver("auto", mm.symmetric(), r.free);
+    t = Clock::now();
+    if (auto out = ls->analyze(k); !out.ok()) throw stratum::Error("bench_ccx: " + out.message);
+    if (auto out = ls->factorize(k); !out.ok()) throw stratum::Error("bench_ccx: " + out.message);
+    r.factorize = seconds_since(t);
+  }
   if (!o.keep)
     for (const char* f : {"job.inp", "job.dat", "job.frd", "job.sta", "job.cvg", "job.12d", "spooles.out",
                           "ccx.log", "stratum.dat"})
@@ -480,6 +500,8 @@ Row summarize(const Spec& p, const Size& s, const std::vector<Sample>& v) {
   row.med.run = med([](const Sample& e) { return e.run; });
   row.med.write = med([](const Sample& e) { return e.write; });
   row.med.ccx = med([](const Sample& e) { return e.ccx; });
+  row.med.assembly = med([](const Sample& e) { return e.assembly; });
+  row.med.factorize = med([](const Sample& e) { return e.factorize; });
   row.ratio = med([](const Sample& e) { return e.stratum() / e.ccx; });
   return row;
 }
@@ -513,9 +535,9 @@ double stratum_median(const Row& r) { return r.med.build + r.med.run + r.med.wri
 // ---- console
 
 void print_header() {
-  std::printf("%4s %9s %9s %9s | %7s %7s %7s %7s | %8s %6s | %5s %5s | %8s %8s | %8s %8s %8s\n", "case",
-              "free DOF", "ccx eqs", "mesh", "build", "run()", "write", "Stratum", "ccx", "ratio", "its",
-              "ccx", "du", "dsigma", "ref err", "ccx err", "u(a) d");
+  std::printf("%4s %9s %9s %9s | %7s %7s %7s %7s | %8s %6s | %5s %5s | %7s %7s | %8s %8s | %8s %8s %8s\n",
+              "case", "free DOF", "ccx eqs", "mesh", "build", "run()", "write", "Stratum", "ccx", "ratio",
+              "its", "ccx", "1 asm", "1 fact", "du", "dsigma", "ref err", "ccx err", "u(a) d");
   std::fflush(stdout);
 }
 
@@ -524,11 +546,12 @@ void print_row(const Row& r) {
   const std::string mesh = std::to_string(r.size.nx) + "x" + std::to_string(r.size.ny);
   const double ref = exact_reference(r.spec);
   const double mine = r.spec.plastic() ? m.u_b : m.u_a, theirs = r.spec.plastic() ? m.u_b_ccx : m.u_a_ccx;
-  std::printf("%4s %9d %9lld %9s | %7.3f %7.3f %7.3f %7.3f | %8.3f %6.3f | %5d %5d | %8.1e %8.1e | %8.1e "
+  std::printf("%4s %9d %9lld %9s | %7.3f %7.3f %7.3f %7.3f | %8.3f %6.3f | %5d %5d | %7.3f %7.3f | %8.1e "
+              "%8.1e | %8.1e "
               "%8.1e %8.1e\n",
               r.spec.name, m.free, m.ccx_equations, mesh.c_str(), m.build, m.run, m.write, stratum_median(r),
-              m.ccx, r.ratio, m.iterations, m.ccx_iterations, m.du, m.ds, rel(mine, ref), rel(theirs, ref),
-              rel(m.u_a, m.u_a_ccx));
+              m.ccx, r.ratio, m.iterations, m.ccx_iterations, m.assembly, m.factorize, m.du, m.ds,
+              rel(mine, ref), rel(theirs, ref), rel(m.u_a, m.u_a_ccx));
   std::fflush(stdout);
 }
 
@@ -667,10 +690,14 @@ std::string section(const std::vector<Row>& rows, const Options& o, const std::s
        "read, its own output). *ratio* = Stratum / ccx (median of the per-repetition ratios). *Δu* = largest "
        "nodal displacement difference / largest displacement; *Δσ* = largest difference of the "
        "element-mean stresses (r, z, theta, rz) / largest one. *ref err* = relative error of u(a) (lame) or "
-       "u(b) (hill) against the closed form, Stratum / ccx.\n\n"
+       "u(b) (hill) against the closed form, Stratum / ccx. *1 assembly*, *1 factorization*: Stratum's "
+       "cost of one Newton iteration, measured after the run (one `assemble()` with the tangent; analyze + "
+       "factorize with the `auto` linear solver), not part of its time.\n\n"
     << "| case | free DOF | ccx equations | mesh | n | build | run() | write | **Stratum** | **ccx** | "
-       "**ratio** | iterations Stratum / ccx | Δu | Δσ | u(a) Stratum vs ccx | ref err Stratum / ccx |\n"
-    << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+       "**ratio** | iterations Stratum / ccx | 1 assembly | 1 factorization | Δu | Δσ | u(a) Stratum vs ccx "
+       "| "
+       "ref err Stratum / ccx |\n"
+    << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& r : rows) {
     const auto& m = r.med;
     const double ref = exact_reference(r.spec);
@@ -679,8 +706,9 @@ std::string section(const std::vector<Row>& rows, const Options& o, const std::s
       << r.size.nx << " x " << r.size.ny << " | " << r.repeat << " | " << fixed(m.build, 3) << " | "
       << fixed(m.run, 3) << " | " << fixed(m.write, 3) << " | **" << fixed(stratum_median(r), 3) << "** | **"
       << fixed(m.ccx, 2) << "** | **" << fixed(r.ratio, 3) << "** | " << m.iterations << " / "
-      << m.ccx_iterations << " | " << sci(m.du) << " | " << sci(m.ds) << " | " << sci(rel(m.u_a, m.u_a_ccx))
-      << " | " << sci(rel(mine, ref)) << " / " << sci(rel(theirs, ref)) << " |\n";
+      << m.ccx_iterations << " | " << fixed(m.assembly, 3) << " | " << fixed(m.factorize, 3) << " | "
+      << sci(m.du) << " | " << sci(m.ds) << " | " << sci(rel(m.u_a, m.u_a_ccx)) << " | "
+      << sci(rel(mine, ref)) << " / " << sci(rel(theirs, ref)) << " |\n";
   }
   s << "\nTargets:\n\n" << targets(rows) << end_marker << "\n";
   return s.str();
