@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -603,7 +604,9 @@ std::string ccx_version(const Options& o) {
     std::string line;
     while (std::getline(in, line))
       if (line.find("Version") != std::string::npos) {
-        version = line.substr(line.find_first_not_of(" \t"));
+        version = "ccx " + line.substr(line.find("Version") + 8);
+        while (!version.empty() && std::isspace(static_cast<unsigned char>(version.back())))
+          version.pop_back();
         break;
       }
   }
@@ -734,8 +737,9 @@ std::string section(const std::vector<Row>& rows, const Options& o, const std::s
        "file "
        "alone).\n\n"
     << "Both solve the same mesh: nx x nx/2 square 8-node cells, Stratum's `quad` with 3x3 Gauss and ccx's "
-       "CAX8 (full integration; ccx expands it internally to a 3D C3D20 wedge, hence its larger equation "
-       "count). u_z = 0 on top and bottom, the pressure on r = a (ccx: `*DLOAD` on the element faces). "
+       "CAX8 (full integration; ccx expands it internally into 3D C3D20 elements spanning a small angle, yet "
+       "the equation count it prints equals Stratum's free DOF). u_z = 0 on top and bottom, the pressure on "
+       "r = a (ccx: `*DLOAD` on the element faces). "
        "*lame*: a = 1, b = 2, height 0.5, E = 1000, nu = 0.3, p = 1, closed form u(a) = "
     << sci(lame_u(lame, lame.a), 6) << " m. *hill*: a = 0.1, b = 0.2, height 0.05, E = 2.1e8, nu = 0.3, "
     << "von Mises sigma_y = 2.4e5 perfectly plastic (ccx `*PLASTIC` with one point, small-strain since no "
