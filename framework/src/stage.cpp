@@ -128,22 +128,6 @@ void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f) {
   }
 }
 
-void set_geostatic(Model& model, const std::vector<int>& cells, double gamma, double K0, double surface) {
-  std::vector<int> active;
-  for (int c : cells)
-    if (model.is_active(c)) active.push_back(c);
-  for_points(model, active, [&](const Domain& dm, PointSlot<double>& slot, const Eigen::Vector2d& x) {
-    const double sv = -gamma * std::max(surface - x.y(), 0.0);
-    Vec6 s = Vec6::Zero();
-    s[voigt::xx] = K0 * sv;
-    s[voigt::yy] = sv;
-    s[voigt::zz] = K0 * sv;
-    slot.stress() = s;
-    slot.strain().setZero();
-    dm.law.material->init_history(s, slot.history());
-  });
-}
-
 namespace {
 
 /// Puts the interface points of the given cells under a normal compression p(x) (kPa) with zero
@@ -196,6 +180,38 @@ void set_interface_compression(Model& m, const std::vector<int>& cells, Pressure
 }
 
 } // namespace
+
+void set_geostatic(Model& model, const std::vector<int>& cells, double gamma, double K0, double surface) {
+  std::vector<int> active;
+  for (int c : cells)
+    if (model.is_active(c)) active.push_back(c);
+  for_points(model, active, [&](const Domain& dm, PointSlot<double>& slot, const Eigen::Vector2d& x) {
+    const double sv = -gamma * std::max(surface - x.y(), 0.0);
+    Vec6 s = Vec6::Zero();
+    s[voigt::xx] = K0 * sv;
+    s[voigt::yy] = sv;
+    s[voigt::zz] = K0 * sv;
+    slot.stress() = s;
+    slot.strain().setZero();
+    dm.law.material->init_history(s, slot.history());
+  });
+  // Interface cells (e.g. boundary springs on the far side) carry the geostatic traction on
+  // their plane, n.sigma.n, and no shear.
+  for (int c : active) {
+    const auto& cell = model.mesh.cells[static_cast<std::size_t>(c)];
+    if (cell.kind == CellKind::solid) continue;
+    // A line interface runs from node 0 to node 1; a node pair along its neighbours (slots 2, 3).
+    const int a = cell.kind == CellKind::node_pair ? cell.nodes[2] : cell.nodes[0];
+    const int b = cell.kind == CellKind::node_pair ? cell.nodes[3] : cell.nodes[1];
+    const Eigen::Vector2d t =
+        model.mesh.nodes[static_cast<std::size_t>(b)] - model.mesh.nodes[static_cast<std::size_t>(a)];
+    if (!(t.norm() > 0)) continue;
+    const double nx2 = t.y() * t.y() / t.squaredNorm(), ny2 = t.x() * t.x() / t.squaredNorm();
+    set_interface_compression(model, {c}, [&](const Eigen::Vector2d& x) {
+      return gamma * std::max(surface - x.y(), 0.0) * (K0 * nx2 + ny2);
+    });
+  }
+}
 
 void set_placed_stress(Model& model, const std::vector<int>& cells, bool hydrostatic, double gamma,
                        double surface) {
