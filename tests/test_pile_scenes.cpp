@@ -20,6 +20,13 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 
+std::string exact(double v) {
+  std::ostringstream o;
+  o.precision(17);
+  o << v;
+  return o.str();
+}
+
 /// Randolph & Wroth (1978) head stiffness P / (w G r0) of a compressible pile in homogeneous
 /// soil (rho = 1), verification catalogue E3.
 double randolph_wroth(double L, double r0, double Ep, double G, double nu) {
@@ -103,8 +110,7 @@ TEST_CASE("E3 elastic pile through the staged path: head stiffness within 15 % o
   // The same pile under a head displacement: the head load is the reaction on the head nodes. The
   // pile is stiff (E_p / G = 3000), so a uniform head displacement and a uniform head pressure give
   // the same stiffness to well within 1 %.
-  s.loading =
-      "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nsettlement = " + std::to_string(w) + "\n";
+  s.loading = "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nsettlement = " + exact(w) + "\n";
   auto b = scene(staged_pile_scene(s), "e3_pile_displaced.toml");
   const auto run_b = b->run();
   INFO(run_b.outcome.message);
