@@ -212,6 +212,8 @@ struct Sample {
   double solve = 0;        ///< all forward/back substitutions
   double newton = 0;       ///< wall time of the Newton loops (all assemblies, factorizations, solves)
   double newton_cpu = 0;   ///< process CPU time of the same span
+  double assemble_cpu = 0; ///< process CPU time of the assemble() calls
+  double solve_cpu = 0;    ///< process CPU time of the factorizations and solves
   int assemblies = 0;      ///< assemble() calls (iterations + one convergence check per step)
   int iterations = 0;      ///< corrections = factorizations
   double overhead = 0;     ///< measured decorator overhead of one assembly (decorated - plain)
@@ -237,9 +239,13 @@ struct Sample {
   [[nodiscard]] double newton_per_it() const {
     return (newton - 2.0 * static_cast<double>(updates) * clock_read) / iterations;
   }
-  [[nodiscard]] double newton_cpu_per_it() const {
-    return (newton_cpu - 2.0 * static_cast<double>(updates) * clock_read) / iterations;
+  /// CPU time: one assembly with its stress update (both clock reads of the decorator
+  /// taken out), one factorization + solve, and their sum.
+  [[nodiscard]] double asm_cpu_per_call() const {
+    return (assemble_cpu - 2.0 * static_cast<double>(updates) * clock_read) / assemblies;
   }
+  [[nodiscard]] double solve_cpu_per_it() const { return solve_cpu / iterations; }
+  [[nodiscard]] double per_iteration_cpu() const { return asm_cpu_per_call() + solve_cpu_per_it(); }
 };
 
 /// Relative error of the displacement the closed form predicts: u_r(a) for the elastic
@@ -317,10 +323,12 @@ Sample measure(Problem problem, const Size& s, const std::string& plugin_dir, do
   for (const double lambda : steps) {
     for (int it = 0;; ++it) {
       m.expand(u, lambda, full);
+      double c0 = cpu_seconds();
       t = Clock::now();
       if (auto o = assembler.assemble(m, full, f_int, &k); !o.ok())
         throw stratum::Error("assembly failed: " + o.message);
       r.assemble += seconds_since(t);
+      r.assemble_cpu += cpu_seconds() - c0;
       ++r.assemblies;
       const Eigen::VectorXd load = m.load_base + lambda * m.load_ref;
       res = m.restrict_free(load - f_int);
@@ -328,12 +336,14 @@ Sample measure(Problem problem, const Size& s, const std::string& plugin_dir, do
       if (res.norm() <= std::max(newton_rtol * scale, newton_atol)) break;
       if (it >= newton_max_iterations)
         throw stratum::Error("Newton did not converge at lambda = " + std::to_string(lambda));
+      c0 = cpu_seconds();
       t = Clock::now();
       if (auto o = ls->factorize(k); !o.ok()) throw stratum::Error("factorize: " + o.message);
       r.factorize += seconds_since(t);
       t = Clock::now();
       if (auto o = ls->solve(res, du); !o.ok()) throw stratum::Error("solve: " + o.message);
       r.solve += seconds_since(t);
+      r.solve_cpu += cpu_seconds() - c0;
       ++r.iterations;
       u += du;
     }
@@ -380,14 +390,24 @@ struct Row {
   long long nnz = 0;
   int iterations = 0, assemblies = 0;
   double build = 0, pattern = 0, analyze = 0;
-  double assembly = 0, update = 0, solve = 0, per_it = 0, newton_it = 0, newton_cpu_it = 0;
-  double update_point = 0; ///< stress update per integration point
+  double assembly = 0, update = 0, solve = 0, per_it = 0, newton_it = 0;
+  double asm_cpu = 0, solve_cpu = 0, per_it_cpu = 0; ///< process CPU time per assembly / iteration
+  std::string load;                                  ///< 1-minute load average after this size
+  double update_point = 0;                           ///< stress update per integration point
   double overhead = 0, overhead_est = 0;
   double error = 0; ///< the largest over the repetitions
   double wall = 0;  ///< all repetitions
   double peak_mib = 0;
   int repeats = 0;
 };
+
+/// The 1-minute load average: other processes on a shared machine inflate wall times.
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one;
+  in >> one;
+  return one.empty() ? "unknown" : one;
+}
 
 Row summarize(Problem p, const Size& s, const std::vector<Sample>& v, double wall, double peak) {
   Row row;
@@ -411,12 +431,15 @@ Row summarize(Problem p, const Size& s, const std::vector<Sample>& v, double wal
   row.update_point = med([](const Sample& e) { return e.update_per_point(); });
   row.per_it = med([](const Sample& e) { return e.per_iteration(); });
   row.newton_it = med([](const Sample& e) { return e.newton_per_it(); });
-  row.newton_cpu_it = med([](const Sample& e) { return e.newton_cpu_per_it(); });
+  row.asm_cpu = med([](const Sample& e) { return e.asm_cpu_per_call(); });
+  row.solve_cpu = med([](const Sample& e) { return e.solve_cpu_per_it(); });
+  row.per_it_cpu = med([](const Sample& e) { return e.per_iteration_cpu(); });
   row.overhead = med([](const Sample& e) { return e.overhead; });
   row.overhead_est = med([](const Sample& e) { return e.overhead_est; });
   for (const auto& e : v) row.error = std::max(row.error, e.error);
   row.wall = wall;
   row.peak_mib = peak;
+  row.load = load_average();
   row.repeats = static_cast<int>(v.size());
   return row;
 }
@@ -445,7 +468,9 @@ constexpr Component components[] = {{"assembly", &Row::assembly},
                                     {"solve", &Row::solve},
                                     {"total per iteration", &Row::per_it},
                                     {"Newton loop / iteration", &Row::newton_it},
-                                    {"Newton CPU / iteration", &Row::newton_cpu_it},
+                                    {"assembly + stress update (CPU)", &Row::asm_cpu},
+                                    {"solve (CPU)", &Row::solve_cpu},
+                                    {"total per iteration (CPU)", &Row::per_it_cpu},
                                     {"analyze (once)", &Row::analyze}};
 
 struct Fit {
@@ -490,13 +515,6 @@ std::string cpu_model() {
       }
     }
   return "unknown CPU";
-}
-
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string one;
-  in >> one;
-  return one.empty() ? "unknown" : one;
 }
 
 std::string env_or(const char* name, const char* fallback) {
@@ -549,19 +567,21 @@ std::string today_utc() {
 // ---- console
 
 void print_header() {
-  std::printf("%-13s %9s %9s %4s %4s | %9s %9s %9s %9s | %9s %9s | %9s %15s | %8s %6s %7s\n", "problem",
-              "free DOF", "mesh", "its", "asm", "assembly", "update", "solve", "per it", "Newton/it",
-              "CPU/it", "analyze", "overhead m/est", "err", "wall", "peakMiB");
+  std::printf("%-13s %9s %9s %4s %4s | %9s %9s %9s %9s %9s | %9s %9s %9s | %9s %15s | %8s %6s %7s %5s\n",
+              "problem", "free DOF", "mesh", "its", "asm", "assembly", "update", "solve", "per it",
+              "Newton/it", "asm CPU", "sol CPU", "it CPU", "analyze", "overhead m/est", "err", "wall",
+              "peakMiB", "load");
   std::fflush(stdout);
 }
 
 void print_row(const Row& r) {
   const std::string mesh = std::to_string(r.size.nx) + "x" + std::to_string(r.size.ny);
-  std::printf("%-13s %9d %9s %4d %4d | %9.4f %9.4f %9.4f %9.4f | %9.4f %9.4f | %9.4f %7.4f/%7.4f | %8.1e "
-              "%6.1f %7.0f\n",
-              problem_name(r.problem), r.free, mesh.c_str(), r.iterations, r.assemblies, r.assembly, r.update,
-              r.solve, r.per_it, r.newton_it, r.newton_cpu_it, r.analyze, r.overhead, r.overhead_est, r.error,
-              r.wall, r.peak_mib);
+  std::printf(
+      "%-13s %9d %9s %4d %4d | %9.4f %9.4f %9.4f %9.4f %9.4f | %9.4f %9.4f %9.4f | %9.4f %7.4f/%7.4f | "
+      "%8.1e %6.1f %7.0f %5s\n",
+      problem_name(r.problem), r.free, mesh.c_str(), r.iterations, r.assemblies, r.assembly, r.update,
+      r.solve, r.per_it, r.newton_it, r.asm_cpu, r.solve_cpu, r.per_it_cpu, r.analyze, r.overhead,
+      r.overhead_est, r.error, r.wall, r.peak_mib, r.load.c_str());
   std::fflush(stdout);
 }
 
@@ -581,7 +601,10 @@ std::string verdict(const std::vector<Row>& rows) {
     << "** for the total time per Newton iteration (least-squares fit over all sizes, up to "
     << grouped(static_cast<long long>(largest)) << " free DOF): elastic "
     << fixed(fit(rows, Problem::elastic, &Row::per_it).all, 2) << ", elastoplastic "
-    << fixed(fit(rows, Problem::elastoplastic, &Row::per_it).all, 2) << ".";
+    << fixed(fit(rows, Problem::elastoplastic, &Row::per_it).all, 2)
+    << " (on process CPU time per iteration, which competing processes inflate less: "
+    << fixed(fit(rows, Problem::elastic, &Row::per_it_cpu).all, 2) << " and "
+    << fixed(fit(rows, Problem::elastoplastic, &Row::per_it_cpu).all, 2) << ").";
   if (largest < 9e5) s << " The run stopped below 1e6 DOF, so the target's range is not covered.";
   // What limits it: the share of each component at the largest size and its local exponent.
   for (Problem p : {Problem::elastic, Problem::elastoplastic}) {
@@ -610,19 +633,20 @@ std::string verdict(const std::vector<Row>& rows) {
 std::string table(const std::vector<Row>& rows, Problem p) {
   std::ostringstream s;
   s << "| free DOF | mesh | nnz(K) | iterations | assemblies | assembly | stress update | solve | **per "
-       "iteration** | Newton loop / it | (CPU) | update / point | analyze | pattern | decorator overhead "
-       "meas./est. | "
-    << (p == Problem::elastic ? "err u(a)" : "err u(b)") << " | peak RSS | runs |\n"
-    << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+       "iteration** | Newton loop / it | CPU: assembly + update | CPU: solve | CPU: per iteration | update / "
+       "point | analyze | decorator overhead meas./est. | "
+    << (p == Problem::elastic ? "err u(a)" : "err u(b)") << " | peak RSS | load | runs |\n"
+    << "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+       "\n";
   for (const auto& r : rows) {
     if (r.problem != p) continue;
     s << "| " << grouped(r.free) << " | " << r.size.nx << " x " << r.size.ny << " | " << grouped(r.nnz)
       << " | " << r.iterations << " | " << r.assemblies << " | " << secs(r.assembly) << " | "
       << secs(r.update) << " | " << secs(r.solve) << " | **" << secs(r.per_it) << "** | " << secs(r.newton_it)
-      << " | " << secs(r.newton_cpu_it) << " | " << fixed(r.update_point * 1e9, 0) << " ns | "
-      << secs(r.analyze) << " | " << secs(r.pattern) << " | " << secs(r.overhead) << " / "
-      << secs(r.overhead_est) << " | " << sci(r.error) << " | " << fixed(r.peak_mib, 0) << " MiB | "
-      << r.repeats << " |\n";
+      << " | " << secs(r.asm_cpu) << " | " << secs(r.solve_cpu) << " | " << secs(r.per_it_cpu) << " | "
+      << fixed(r.update_point * 1e9, 0) << " ns | " << secs(r.analyze) << " | " << secs(r.overhead) << " / "
+      << secs(r.overhead_est) << " | " << sci(r.error) << " | " << fixed(r.peak_mib, 0) << " MiB | " << r.load
+      << " | " << r.repeats << " |\n";
   }
   return s.str();
 }
@@ -654,8 +678,9 @@ std::string section(const std::vector<Row>& rows, const Options& o, const std::s
     << " at the start; median of " << o.repeat << " runs per size (" << o.repeat_large
     << " above 3e5 DOF). Regenerate with `build/release/bin/bench_scaling` (`--max-dof N` stops early, "
        "`--no-write` leaves this file alone), then `/usr/bin/python3 tools/plot_scaling.py` for the "
-       "figure. Wall times on these shared machines grow with the load of other processes; the (CPU) column "
-       "hardly does.\n\n"
+       "figure. Wall times on these shared machines grow with the load of other processes (the *load* "
+       "column: the 1-minute load average after each size); the CPU columns (process CPU time) less so, "
+       "though cache and memory-bandwidth contention inflate them too.\n\n"
     << "Thick cylinder a = 1, b = 2, height 0.5, u_z = 0 on top and bottom, axisymmetric, nx x nx/2 square "
        "quad8 cells, 3x3 Gauss, built with `Analysis::from_string` and "
     << (own_plugins ? std::string("the build tree's plugins") : "the plugins of `" + o.plugin_dir + "`")
@@ -672,7 +697,9 @@ std::string section(const std::vector<Row>& rows, const Options& o, const std::s
     << " ns each, is subtracted: one from the stress update, one from the assembly), *solve* = numeric "
        "factorization + forward/back substitution of one correction, **per iteration** = their sum. The "
        "assemblies also include one convergence-check assembly per load step; *Newton loop / it* is the "
-       "whole loop (all of them) divided by the corrections. *decorator overhead* = one decorated minus "
+       "whole loop (all of them) divided by the corrections. *CPU:* the process CPU time of the "
+       "assemble() calls (with their stress updates; the calibrated clock reads taken out) per assembly, of "
+       "factorize + solve per correction, and their sum. *decorator overhead* = one decorated minus "
        "one plain assembly at the converged state, measured, against the calibrated estimate (two reads "
        "per call); it is noise-level next to an assembly. Times are medians over the runs.\n\n"
     << "### Elastic (Lamé cylinder)\n\n"
@@ -697,11 +724,12 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
     std::ofstream out(tmp);
     out.precision(6);
     out << "problem,free_dof,nx,ny,iterations,assemblies,assembly_s,stress_update_s,solve_s,per_iteration_s,"
-           "newton_per_iteration_s,newton_cpu_per_iteration_s,analyze_s\n";
+           "newton_per_iteration_s,assembly_cpu_s,solve_cpu_s,per_iteration_cpu_s,analyze_s\n";
     for (const auto& r : rows)
       out << problem_name(r.problem) << "," << r.free << "," << r.size.nx << "," << r.size.ny << ","
           << r.iterations << "," << r.assemblies << "," << r.assembly << "," << r.update << "," << r.solve
-          << "," << r.per_it << "," << r.newton_it << "," << r.newton_cpu_it << "," << r.analyze << "\n";
+          << "," << r.per_it << "," << r.newton_it << "," << r.asm_cpu << "," << r.solve_cpu << ","
+          << r.per_it_cpu << "," << r.analyze << "\n";
     if (!out) throw std::runtime_error("cannot write " + tmp.string());
   }
   std::filesystem::rename(tmp, p);
