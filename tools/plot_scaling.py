@@ -72,6 +72,11 @@ def main():
             k = exponent(xs, ys)
             text = f"{label} (slope {k:.2f})" if k is not None else label
             ax.loglog(xs, ys, style, label=text, lw=2.2 if col == "per_iteration_s" else 1.2, ms=5)
+        cpu = [(x, float(r["per_iteration_cpu_s"])) for x, r in zip(dof, sel) if "per_iteration_cpu_s" in r]
+        if cpu and min(y for _, y in cpu) > 0:
+            xs, ys = zip(*cpu)
+            k = exponent(xs, ys)
+            ax.loglog(xs, ys, "D--", color="0.45", ms=4, lw=1.2, label=f"total per iteration, CPU time (slope {k:.2f})")
         # Reference slopes through the first total.
         x0 = dof[0]
         y0 = float(sel[0]["per_iteration_s"])
