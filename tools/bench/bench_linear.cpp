@@ -169,7 +169,10 @@ Sample measure(const Size& s, const std::string& plugin_dir) {
     if (auto o = assembler.assemble(m, u, f_int, &k); !o.ok())
       throw stratum::Error("assembly failed: " + o.message);
     r.assembly = seconds_since(t);
-    const Eigen::VectorXd rhs = m.restrict_free(m.load_ref - f_int);
+    // Loads enter the model when run() starts a stage: form the pressure's nodal forces here.
+    Eigen::VectorXd f_ext = Eigen::VectorXd::Zero(m.dofs.total());
+    stratum::add_edge_pressure(m.mesh, m.mesh.edge_sets.at("ring.left"), pressure, m.formulation, f_ext);
+    const Eigen::VectorXd rhs = m.restrict_free(f_ext - f_int);
 
     auto ls = stratum::make_linear_solver("cholmod", true, r.free);
     Eigen::VectorXd x;
