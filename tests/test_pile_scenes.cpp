@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <sstream>
 
@@ -256,4 +257,31 @@ K0 = 0.5
   for (const auto& r : run.records)
     first_residual = std::max(first_residual, r.residual_norms.empty() ? 0.0 : r.residual_norms.front());
   CHECK(first_residual <= 1e-6 * gamma * 9.0 * 6.0 * 6.0);
+}
+
+TEST_CASE("a run without VTK output still writes its curves and diagnostics into a new directory",
+          "[stages][output]") {
+  namespace fs = std::filesystem;
+  StagedPile s;
+  s.n_shaft = 4, s.n_near = 3, s.n_far = 2, s.n_below = 2, s.n_deep = 1;
+  s.loading = "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nforce = 100.0\n";
+  std::string text = staged_pile_scene(s);
+  text.replace(text.find("[output]\n"), 9, "[output]\nvtk = false\n");
+  for (auto at = text.find("[[stages]]\nname"); at != std::string::npos;
+       at = text.find("[[stages]]\nname", at + 1))
+    text.insert(text.find('\n', text.find("name", at)) + 1, "checkpoint = false\n");
+  const fs::path dir = fs::temp_directory_path() / "stratum_no_vtk_test" / "deeper";
+  fs::remove_all(dir.parent_path());
+  RunOptions o;
+  o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+  o.out_dir = dir.string();
+  auto a = Analysis::from_string(text, "no_vtk.toml", std::move(o));
+  const auto run = a->run();
+  INFO(run.outcome.message);
+  REQUIRE(run.outcome.ok());
+  CHECK(fs::exists(dir / "diagnostics.csv"));
+  CHECK(fs::exists(dir / "curves" / "load_settlement.csv"));
+  CHECK(run.checkpoints.empty());
+  CHECK(run.pvd.empty());
+  fs::remove_all(dir.parent_path());
 }

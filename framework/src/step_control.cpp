@@ -239,6 +239,7 @@ void write_step_records(const std::string& path, const std::vector<StepRecord>& 
   namespace fs = std::filesystem;
   const fs::path p(path);
   const fs::path tmp = p.parent_path() / ("." + p.filename().string() + ".tmp");
+  if (!p.parent_path().empty()) fs::create_directories(p.parent_path()); // no VTK: nothing made it yet
   {
     std::ofstream out(tmp, std::ios::binary);
     out << "stage,step,accepted,lambda_n,lambda,iterations,factorizations,first_residual,last_residual,order,"
