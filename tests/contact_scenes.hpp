@@ -1,5 +1,5 @@
 // Scene texts of the contact verification cases (C1, C2), shared by the tests and by the
-// conditioning benchmark (tools/bench/contact_conditioning.cpp).
+// conditioning benchmark (tools/benchmarks/contact_conditioning.cpp).
 #pragma once
 
 #include "stratum/analysis.hpp"

@@ -1,4 +1,5 @@
 # Shared set-up of tools/run, tools/test and tools/bench (sourced, not run).
+# STRATUM_EXTRA_PACKAGES adds Debian packages to install (tools/bench: calculix-ccx, matplotlib).
 # Installs the Debian packages Stratum needs when they are missing, then
 # configures and builds the Release tree in build/release.
 set -euo pipefail
@@ -6,7 +7,8 @@ set -euo pipefail
 STRATUM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 STRATUM_BUILD="${STRATUM_BUILD:-$STRATUM_ROOT/build/release}"
 STRATUM_PACKAGES=(cmake ninja-build g++ pkg-config libeigen3-dev libboost-dev libboost-filesystem-dev libboost-serialization-dev libvtk9-dev
-  libsundials-dev libtomlplusplus-dev catch2 libsuitesparse-dev libopenblas0-pthread)
+  libsundials-dev libtomlplusplus-dev catch2 libsuitesparse-dev libopenblas0-pthread
+  ${STRATUM_EXTRA_PACKAGES:-})
 
 stratum_install_packages() {
   local missing=()
@@ -29,6 +31,9 @@ stratum_build() {
 
 # One BLAS thread: on two shared cores two threads were slower (docs/performance.md).
 export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
+# Likewise CHOLMOD's OpenMP threads: with them, factorizations on the loaded 2-core machines
+# took about twice as long (tools/benchmarks/README.md, bench_ccx).
+export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 
 stratum_install_packages
 stratum_build
