@@ -468,6 +468,11 @@ public:
       return Outcome::failure(Status::non_finite, "duncan_chang: non-finite strain or stress" + where());
     Record rec;
     out.stress = evaluate(in, in.dstrain, out.history, rec, false);
+    if (!in.want_tangent) {
+      if (!out.stress.allFinite())
+        return Outcome::failure(Status::non_finite, "duncan_chang: the stress is not finite" + where());
+      return Outcome::success();
+    }
     // The tangent of what the update did: central differences of the update with the branch
     // decisions (recovery or incremental, substep count, E_t or E_ur per substep) frozen.
     std::vector<double> hp(out.history.size());

@@ -343,7 +343,8 @@ private:
       strain_n = committed.strain();
       strain = strain_n + dstrain;
       stress_n = committed.stress();
-      const MaterialInput in{stress_n, strain_n, committed.history(), dstrain, PointContext{cell.id, i}};
+      const MaterialInput in{stress_n,    strain_n, committed.history(), dstrain, PointContext{cell.id, i},
+                             want_tangent};
       MaterialOutput mo{stress, trial.history(), tangent};
       Outcome r = material.update(in, mo);
       if (!r.ok()) return r;

@@ -30,6 +30,9 @@ struct MaterialInput {
   std::span<const double> history_n;
   const Vec6& dstrain;
   PointContext where;
+  /// False when the caller needs no tangent (a residual-only evaluation, e.g. a line-search
+  /// trial): a material may then leave out.tangent as it is and skip computing it.
+  bool want_tangent = true;
 };
 
 /// Output of one update; the caller provides the storage.
@@ -54,7 +57,8 @@ public:
   /// True when the tangent is symmetric (chooses Cholesky over LU).
   [[nodiscard]] virtual bool symmetric_tangent() const { return true; }
 
-  /// The constitutive update. Must fill out.stress, out.history and out.tangent.
+  /// The constitutive update. Must fill out.stress, out.history and (when in.want_tangent)
+  /// out.tangent.
   [[nodiscard]] virtual Outcome update(const MaterialInput& in, MaterialOutput& out) const = 0;
 };
 
