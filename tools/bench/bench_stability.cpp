@@ -8,7 +8,7 @@
 // timeout, NaN/Inf in an output, silent failure, input error. The table goes to
 // docs/benchmarks.md.
 //
-// Usage: bench_stability [--quick] [--filter TEXT] [--timeout S] [--no-write] [--docs PATH]
+// Usage: bench_stability [--quick | --full] [--filter TEXT] [--timeout S] [--no-write] [--docs PATH]
 //                        [--keep DIR]
 #include "docs_section.hpp"
 #include "stability_harness.hpp"
@@ -44,11 +44,10 @@ struct Run {
   st::Outcome outcome;
 };
 
-std::vector<Block> matrix(const fs::path& src, bool quick) {
+std::vector<Block> matrix(const fs::path& src, bool quick, bool full) {
   const std::vector<int> all{1, 2, 5, 10, 20, 50, 100};
   const std::vector<int> few{1, 5, 20};
   const std::vector<std::string> solvers{"newton", "modified_newton", "initial_stiffness", "kinsol"};
-  const std::vector<std::string> newton_family{"newton", "modified_newton"};
   const auto& inc = quick ? few : all;
   std::vector<Block> b;
   auto add = [&](st::Scene s, std::vector<std::string> sv, std::vector<std::string> integ,
@@ -56,45 +55,70 @@ std::vector<Block> matrix(const fs::path& src, bool quick) {
     if (integ.empty()) integ = s.integrators;
     b.push_back({std::move(s), std::move(sv), std::move(integ), std::move(n)});
   };
+  // The default matrix is sized for about half an hour on the shared 2-core machine; --full
+  // runs every solver x integrator x increment combination of every block (hours).
+  const auto pick = [&](const std::vector<int>& n) { return full ? all : n; };
+  const auto sv = [&](const std::vector<std::string>& s) { return full ? solvers : s; };
+  const std::vector<std::string> newton{"newton"}, others{"modified_newton", "initial_stiffness", "kinsol"};
+  // Linear scenes: every solver and increment count.
   for (const char* f :
        {"inputs/verification/lame_axisymmetric.toml", "inputs/verification/lame_plane_strain.toml",
-        "inputs/verification/circular_load.toml", "inputs/verification/hill_cylinder.toml",
-        "inputs/verification/strip_footing.toml"})
+        "inputs/verification/circular_load.toml"})
     add(st::input_scene(src, f), solvers, {}, inc);
   const auto lame = st::input_scene(src, "inputs/verification/lame_axisymmetric.toml");
   const auto circ = st::input_scene(src, "inputs/verification/circular_load.toml");
   const auto hill = st::input_scene(src, "inputs/verification/hill_cylinder.toml");
   const auto strip = st::input_scene(src, "inputs/verification/strip_footing.toml");
   add(st::variant(lame, "nu=0.499", "[materials.steel]", "nu", "0.499"), solvers, {}, inc);
-  add(st::variant(circ, "nu=0.499", "[materials.soil]", "nu", "0.499"), solvers, {}, inc);
-  add(st::variant(hill, "nu=0.499", "[materials.steel]", "nu", "0.499"), solvers, {}, inc);
-  add(st::variant(strip, "nu=0.499", "[materials.clay]", "nu", "0.499"), solvers,
-      {"forward_euler", "closest_point"}, inc);
-  add(st::strip_footing_mohr_coulomb(strip), newton_family, {}, inc);
-  add(st::duncan_chang_near_failure(0.99), solvers, {}, inc);
-  add(st::duncan_chang_near_failure(1.05), solvers, {}, inc);
-  add(st::cap_near_apex(), solvers, {}, inc);
-  // The loess pile scenes take seconds to minutes a run: Newton (the scenes' solver) with
-  // every update/integration and increment count, the other solvers at 5 and 20 increments.
-  const auto hypo = st::input_scene(src, "inputs/loess_pile/hypoelastic.toml");
-  const auto cap = st::input_scene(src, "inputs/loess_pile/cap.toml");
-  const std::vector<int> pile_inc = quick ? std::vector<int>{5} : all;
-  const std::vector<int> pile_few = quick ? std::vector<int>{5} : std::vector<int>{5, 20};
+  add(st::variant(circ, "nu=0.499", "[materials.soil]", "nu", "0.499"), solvers, {}, pick(few));
+  // Hill's cylinder: Newton with every integrator and increment count, the other solvers with
+  // closest_point at 1, 5, 20.
+  add(hill, newton, {}, inc);
+  add(hill, others, {"closest_point"}, pick(few));
+  add(st::variant(hill, "nu=0.499", "[materials.steel]", "nu", "0.499"), sv(newton),
+      {"forward_euler", "closest_point"}, pick(few));
+  // Small extreme samples: every solver and update, 1, 5, 20 increments.
+  add(st::duncan_chang_near_failure(0.99), solvers, {}, pick(few));
+  add(st::duncan_chang_near_failure(1.05), solvers, {}, pick(few));
+  add(st::cap_near_apex(), solvers, {}, pick(few));
+  // The strip footing (520 quad8 cells, about a minute of CPU for 100 steps): Newton with
+  // closest_point at 1, 5, 20 increments, the other solvers and integrators at 5.
+  add(strip, newton, {"closest_point"}, pick(few));
+  add(strip, sv(others), {"closest_point"}, pick({5}));
+  add(strip, newton, {"forward_euler", "modified_euler", "trapezoidal", "midpoint", "cutting_plane"},
+      pick({5}));
+  add(st::variant(strip, "nu=0.499", "[materials.clay]", "nu", "0.499"), sv(newton), {"closest_point"},
+      pick({5}));
+  add(st::strip_footing_mohr_coulomb(strip), sv(newton), {"forward_euler", "closest_point"}, pick({5}));
+  // The loess pile scenes (staged; minutes of wall time a run here): Newton, the scenes' solver,
+  // with their own update/integration at 1 and 5 loading steps; the extreme variants at 5.
+  auto hypo = st::input_scene(src, "inputs/loess_pile/hypoelastic.toml");
+  auto cap = st::input_scene(src, "inputs/loess_pile/cap.toml");
+  hypo.name = "loess_pile/hypoelastic";
+  cap.name = "loess_pile/cap";
   for (const auto& s : {hypo, cap}) {
-    add(s, {"newton"}, {}, pile_inc);
-    add(s, {"modified_newton", "kinsol"}, {s.integrators.front()}, pile_few);
-    add(st::variant(s, "k_n x 1e6", "[contact_laws.loess_concrete]", "k_n", "1.0e13"), {"newton"},
-        {s.integrators.front()}, pile_inc);
+    add(s, sv(newton), {s.integrators.front()}, quick ? std::vector<int>{5} : pick({1, 5}));
+    add(st::variant(s, "k_n x 1e6", "[contact_laws.loess_concrete]", "k_n", "1.0e13"), sv(newton),
+        {s.integrators.front()}, pick({5}));
   }
-  add(st::variant(hypo, "phi=1", "[materials.loess]", "phi", "[1.0, 1.0]"), {"newton"}, {"explicit"},
-      pile_inc);
+  add(st::variant(hypo, "phi=1", "[materials.loess]", "phi", "[1.0, 1.0]"), sv(newton), {"explicit"},
+      pick({5}));
+  if (full) { // one block per scene: every solver, integrator and increment count
+    std::vector<Block> f;
+    for (auto& blk : b) {
+      bool seen = false;
+      for (const auto& g : f) seen = seen || g.scene.name == blk.scene.name;
+      if (!seen) f.push_back({blk.scene, solvers, blk.scene.integrators, all});
+    }
+    return f;
+  }
   return b;
 }
 
 } // namespace
 
 int main(int argc, char** argv) {
-  bool write = true, quick = false;
+  bool write = true, quick = false, full = false;
   double timeout = 60;
   std::string filter;
   fs::path docs = fs::path(STRATUM_SOURCE_DIR) / "docs" / "benchmarks.md";
@@ -105,6 +129,8 @@ int main(int argc, char** argv) {
       write = false;
     else if (a == "--quick")
       quick = true;
+    else if (a == "--full")
+      full = true;
     else if (a == "--docs" && i + 1 < argc)
       docs = argv[++i];
     else if (a == "--filter" && i + 1 < argc)
@@ -114,9 +140,9 @@ int main(int argc, char** argv) {
     else if (a == "--keep" && i + 1 < argc)
       keep = argv[++i];
     else {
-      std::cerr
-          << "usage: bench_stability [--quick] [--filter TEXT] [--timeout S] [--no-write] [--docs PATH] "
-             "[--keep DIR]\n";
+      std::cerr << "usage: bench_stability [--quick | --full] [--filter TEXT] [--timeout S] [--no-write] "
+                   "[--docs PATH] "
+                   "[--keep DIR]\n";
       return 2;
     }
   }
@@ -126,13 +152,80 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path work = fs::temp_directory_path() / ("stratum_stability_" + std::to_string(getpid()));
-  const auto blocks = matrix(STRATUM_SOURCE_DIR, quick);
+  const auto blocks = matrix(STRATUM_SOURCE_DIR, quick, full);
   std::vector<Run> runs;
   std::map<std::string, std::map<st::Kind, int>> counts;
   std::map<std::string, double> seconds;
   std::vector<std::string> order;
   const auto t0 = std::chrono::steady_clock::now();
   int bugs = 0;
+  const st::Kind kinds[] = {st::Kind::converged, st::Kind::stopped, st::Kind::failed, st::Kind::crash,
+                            st::Kind::timeout,   st::Kind::nan_inf, st::Kind::silent, st::Kind::input_error};
+  const auto render = [&](bool complete, double total) {
+    std::ostringstream s;
+    s << begin_marker << "\n## Numerical stability matrix (`bench_stability`)\n\n"
+      << "Every scene of `inputs/verification` and `inputs/loess_pile` and extreme variants (nu = 0.499, a "
+         "Mohr-Coulomb soil with phi = 1 degree, contact normal stiffness x 1e6, Duncan-Chang samples at "
+         "0.99 "
+         "and "
+         "1.05 of the failure deviator, a cap-model sample with the cap at the apex), each run a `stratum "
+         "run` "
+         "child process (time limit "
+      << timeout
+      << " s) with 1 to 100 load increments (staged scenes: the `steps` of the last, loading stage) under "
+         "the "
+         "load-controlled solvers `newton`, `modified_newton`, `initial_stiffness` and `kinsol` (Newton "
+         "strategy) and the stress integrators of the scene's material (`integrator` of von Mises and "
+         "Mohr-Coulomb, `update` of Duncan-Chang, `integration` of the cap model). Which combinations run "
+         "per "
+         "scene: tools/bench/README.md (the default matrix; `--full` runs every combination). "
+         "Outcomes: *converged* (exit 0, every stage at load factor 1, all outputs finite), *stopped* (exit "
+         "0 "
+         "with the stop line of a stage loaded `until_failure`), *failed* (exit 2 with one message line: a "
+         "clean "
+         "numerical failure), and the bugs *crash* (signal or exit status 3), *timeout*, *NaN/Inf* (in any "
+         ".vtu/.vtp array, CSV file or the printed table), *silent* (exit 0 short of the target, or exit 2 "
+         "without a clear message) and *input error* (a variant the harness built wrongly). "
+      << (quick  ? "**Reduced matrix (`--quick`).** "
+          : full ? "**Full matrix (`--full`).** "
+                 : "")
+      << "\n\n"
+      << "| scene | runs | converged | stopped | failed | crash | timeout | NaN/Inf | silent | input error | "
+         "time "
+         "(s) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    std::map<st::Kind, int> sum;
+    int nruns = 0;
+    for (const auto& name : order) {
+      auto& c = counts[name];
+      int n = 0;
+      for (auto k : kinds) n += c[k], sum[k] += c[k];
+      nruns += n;
+      s << "| " << name << " | " << n;
+      for (auto k : kinds) s << " | " << c[k];
+      char buf[32];
+      std::snprintf(buf, sizeof buf, " | %.0f |\n", seconds[name]);
+      s << buf;
+    }
+    s << "| **all** | " << nruns;
+    for (auto k : kinds) s << " | " << sum[k];
+    char buf[64];
+    std::snprintf(buf, sizeof buf, " | %.0f |\n", total);
+    s << buf;
+    if (!complete) s << "\n**Partial: the run is still going (" << runs.size() << " runs so far).**\n";
+    s << "\nEvery run that did not converge (integrator `-`: the material has no choice):\n\n"
+      << "| scene | integrator | solver | increments | outcome | message |\n|---|---|---|---|---|---|\n";
+    for (const auto& r : runs) {
+      if (r.outcome.kind == st::Kind::converged) continue;
+      std::string msg = r.outcome.message;
+      for (auto& ch : msg)
+        if (ch == '|') ch = '/';
+      s << "| " << r.scene << " | " << (r.integrator.empty() ? "-" : r.integrator) << " | " << r.solver
+        << " | " << r.increments << " | " << st::to_string(r.outcome.kind) << " | " << msg << " |\n";
+    }
+    s << "\nRun on the shared 2-core machine; `OPENBLAS_NUM_THREADS=1` in every child.\n"
+      << end_marker << "\n";
+    return s.str();
+  };
   std::printf("%-40s %-15s %-18s %5s  %-11s %7s  %s\n", "scene", "integrator", "solver", "incr", "outcome",
               "time(s)", "message");
   for (const auto& blk : blocks) {
@@ -162,69 +255,20 @@ int main(int argc, char** argv) {
           std::fflush(stdout);
           runs.push_back(std::move(r));
         }
+    // The table so far, so that an interrupted run still leaves its results.
+    if (write && filter.empty())
+      stratum::bench::replace_docs_section(
+          docs, begin_marker, end_marker,
+          render(false, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()));
   }
   std::error_code ec;
   fs::remove_all(work, ec);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  const st::Kind kinds[] = {st::Kind::converged, st::Kind::stopped, st::Kind::failed, st::Kind::crash,
-                            st::Kind::timeout,   st::Kind::nan_inf, st::Kind::silent, st::Kind::input_error};
-  std::ostringstream s;
-  s << begin_marker << "\n## Numerical stability matrix (`bench_stability`)\n\n"
-    << "Every scene of `inputs/verification` and `inputs/loess_pile` and extreme variants, run as `stratum "
-       "run` "
-       "child processes (time limit "
-    << timeout
-    << " s) with 1, 2, 5, 10, 20, 50 and 100 load increments (staged scenes: the `steps` of the last, "
-       "loading "
-       "stage) under the load-controlled solvers `newton`, `modified_newton`, `initial_stiffness` and "
-       "`kinsol` "
-       "(Newton strategy), and every stress integrator of the scene's material (`integrator` of von Mises "
-       "and "
-       "Mohr-Coulomb, `update` of Duncan-Chang, `integration` of the cap model). The loess pile scenes run "
-       "Newton with every increment count, `modified_newton` and `kinsol` at 5 and 20 increments only. "
-       "Outcomes: *converged* (exit 0, every stage at load factor 1, all outputs finite), *stopped* (exit 0 "
-       "with the stop line of a stage loaded `until_failure`), *failed* (exit 2 with one message line: a "
-       "clean "
-       "numerical failure), and the bugs *crash* (signal or exit status 3), *timeout*, *NaN/Inf* (in any "
-       ".vtu/.vtp array, CSV file or the printed table), *silent* (exit 0 short of the target, or exit 2 "
-       "without a clear message) and *input error* (a variant the harness built wrongly). "
-    << (quick ? "**Reduced matrix (`--quick`).** " : "") << "\n\n"
-    << "| scene | runs | converged | stopped | failed | crash | timeout | NaN/Inf | silent | input error | "
-       "time "
-       "(s) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
-  std::map<st::Kind, int> sum;
-  int nruns = 0;
-  for (const auto& name : order) {
-    auto& c = counts[name];
-    int n = 0;
-    for (auto k : kinds) n += c[k], sum[k] += c[k];
-    nruns += n;
-    s << "| " << name << " | " << n;
-    for (auto k : kinds) s << " | " << c[k];
-    char buf[32];
-    std::snprintf(buf, sizeof buf, " | %.0f |\n", seconds[name]);
-    s << buf;
-  }
-  s << "| **all** | " << nruns;
-  for (auto k : kinds) s << " | " << sum[k];
-  char buf[64];
-  std::snprintf(buf, sizeof buf, " | %.0f |\n", total);
-  s << buf;
-  s << "\nEvery run that did not converge (integrator `-`: the material has no choice):\n\n"
-    << "| scene | integrator | solver | increments | outcome | message |\n|---|---|---|---|---|---|\n";
-  for (const auto& r : runs) {
-    if (r.outcome.kind == st::Kind::converged) continue;
-    std::string msg = r.outcome.message;
-    for (auto& ch : msg)
-      if (ch == '|') ch = '/';
-    s << "| " << r.scene << " | " << (r.integrator.empty() ? "-" : r.integrator) << " | " << r.solver << " | "
-      << r.increments << " | " << st::to_string(r.outcome.kind) << " | " << msg << " |\n";
-  }
-  s << "\nRun on the shared 2-core machine; `OPENBLAS_NUM_THREADS=1` in every child.\n" << end_marker << "\n";
-  std::cout << "\n" << s.str();
-  if (write && filter.empty()) stratum::bench::replace_docs_section(docs, begin_marker, end_marker, s.str());
-  std::printf("%d runs, %d bugs (crash, timeout, NaN/Inf, silent, input error), %.0f s\n", nruns, bugs,
+  const std::string section = render(true, total);
+  std::cout << "\n" << section;
+  if (write && filter.empty()) stratum::bench::replace_docs_section(docs, begin_marker, end_marker, section);
+  std::printf("%zu runs, %d bugs (crash, timeout, NaN/Inf, silent, input error), %.0f s\n", runs.size(), bugs,
               total);
   return bugs ? 1 : 0;
 }

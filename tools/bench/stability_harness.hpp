@@ -224,6 +224,7 @@ inline Scene strip_footing_mohr_coulomb(const Scene& strip) {
   s.text = set_key(s.text, "[materials.clay]", "model", "\"mohr_coulomb\"");
   s.text = set_key(s.text, "[materials.clay]", "c", "100.0");
   s.text = set_key(s.text, "[materials.clay]", "phi", "1.0");
+  s.text = set_key(s.text, "[materials.clay]", "form", "\"rounded\""); // the integrators apply to it
   return s;
 }
 
