@@ -70,6 +70,7 @@ TEST_CASE("stability harness: catches crashes, NaN/Inf and silent failures", "[s
     long n = 0;
     CHECK(st::scan_text("a,b\n1,2.5e-3\n\"message with inf inside\",3\n", n).empty());
     CHECK(st::scan_text("1,-nan,3\n", n) == "-nan");
+    CHECK(st::scan_text("1,\"residual is NaN or Inf\",nan\n", n) == "nan");
     CHECK(st::scan_text("1;2;inf\n", n) == "inf");
     const auto out = dir / "vtk";
     fs::create_directories(out);

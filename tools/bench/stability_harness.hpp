@@ -341,10 +341,15 @@ inline bool non_finite_token(const std::string& tok) {
 }
 
 /// First non-finite token of a text (CSV, console output), or "".
+/// Quoted text (the message column of diagnostics.csv, e.g. "residual is NaN or Inf") is words,
+/// not values, and is skipped.
 inline std::string scan_text(const std::string& text, long& values) {
   std::string tok;
+  bool quoted = false;
   for (std::size_t i = 0; i <= text.size(); ++i) {
     const char ch = i < text.size() ? text[i] : '\n';
+    if (ch == '"') quoted = !quoted;
+    if (quoted && ch != '"') continue;
     if (ch == ',' || ch == ';' || ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r' || ch == '"' ||
         ch == '(' || ch == ')' || ch == '=' || ch == '[' || ch == ']') {
       if (!tok.empty()) {
