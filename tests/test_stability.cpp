@@ -180,3 +180,21 @@ TEST_CASE("stability matrix, reduced: no crash, NaN/Inf or silent failure", "[st
   std::error_code ec;
   fs::remove_all(dir.parent_path(), ec);
 }
+
+TEST_CASE("stability harness: diagnostics.csv may record the NaN of a rejected attempt only", "[stability]") {
+  const auto dir = scratch("diag");
+  const std::string head = "stage,step,accepted,lambda_n,lambda,iterations,residuals,message\n";
+  {
+    std::ofstream f(dir / "diagnostics.csv");
+    f << head << "1,1,0,0,1,2,1;nan,\"residual is NaN or Inf\"\n1,1,1,0,0.5,3,1;1e-9,\"\"\n";
+  }
+  st::Outcome o;
+  CHECK(st::scan_outputs(dir, o).empty());
+  {
+    std::ofstream f(dir / "diagnostics.csv");
+    f << head << "1,1,1,0,1,2,1;nan,\"\"\n";
+  }
+  CHECK(st::scan_outputs(dir, o) == "diagnostics.csv: nan");
+  std::error_code ec;
+  fs::remove_all(dir.parent_path(), ec);
+}

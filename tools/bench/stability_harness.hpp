@@ -405,6 +405,17 @@ inline std::string scan_outputs(const fs::path& dir, Outcome& o) {
       r->Update();
       if (!r->GetOutput() || r->GetErrorCode() != 0) return e.path().filename().string() + ": unreadable";
       bad = scan_dataset(r->GetOutput(), o.values_checked);
+    } else if (e.path().filename() == "diagnostics.csv") {
+      // A rejected attempt (accepted = 0) may record the NaN/Inf residual that made the step
+      // driver cut it back: that is the status flowing back, not a result. Accepted rows are
+      // results and must be finite.
+      std::istringstream in(read_text(e.path()));
+      std::string kept, line;
+      while (std::getline(in, line)) {
+        const auto c1 = line.find(','), c2 = c1 == std::string::npos ? c1 : line.find(',', c1 + 1);
+        if (c2 == std::string::npos || line.compare(c2 + 1, 2, "0,") != 0) kept += line + "\n";
+      }
+      bad = scan_text(kept, o.values_checked);
     } else if (ext == ".csv") {
       bad = scan_text(read_text(e.path()), o.values_checked);
     } else {
