@@ -631,3 +631,28 @@ TEST_CASE("duncan_chang: the loess triaxial inputs through `stratum point` follo
     CHECK(worst < 1e-6);
   }
 }
+
+// Regression (bench_stability): a wild Newton iterate of a one-step load asked the incremental
+// update for 100000 substeps per point and evaluation, and a 72-point sample ran for minutes.
+// More than max_substeps now fails the update, so the step driver cuts the step back.
+TEST_CASE("duncan_chang: a strain increment beyond max_substeps fails the update cleanly",
+          "[duncan_chang][stability]") {
+  dc::Constants c = constants(dc::Update::incremental);
+  c.max_substeps = 1000;
+  const dc::DuncanChang m(c);
+  const Vec6 s = triaxial_stress(50, 0);
+  const Vec6 e = Vec6::Zero();
+  Vec6 de = Vec6::Zero();
+  de[1] = -0.5; // 5000 substeps of 1e-4
+  const Result big = update(m, s, e, hist(0, 0), de);
+  CHECK(big.o.status == stratum::Status::material_failure);
+  CHECK(big.o.message.find("max_substeps") != std::string::npos);
+  de[1] = -0.05; // 500 substeps: still integrated
+  const Result ok = update(m, s, e, hist(0, 0), de);
+  CHECK(ok.o.ok());
+  CHECK(ok.stress.allFinite());
+  // The explicit update takes one step whatever the increment.
+  c.update = dc::Update::explicit_step;
+  de[1] = -0.5;
+  CHECK(update(dc::DuncanChang(c), s, e, hist(0, 0), de).o.ok());
+}

@@ -14,6 +14,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,7 @@ struct Constants {
   double residual = 1e-3;             ///< E_t / E_i at and beyond failure (stress level >= 1)
   double tangent_stabilization = 0.0; ///< kPa: isotropic modulus added to the tangent only (nu = 0.3)
   double max_substep_strain = 1e-4;   ///< incremental update: largest strain component per substep
+  int max_substeps = 1000;            ///< incremental update: more substeps than this fail the update
   double recovery_min_strain = 1e-6;  ///< recovery needs a major compressive strain above this
   bool tension_cutoff = true;
   bool origin_at_initial_stress = true; ///< recovery: strains count from the CID state of the initial stress
@@ -273,6 +275,7 @@ public:
   struct Record {
     bool recovery = false;
     int substeps = 0;
+    double too_large = 0.0;    ///< the strain increment when it needs more than max_substeps (else 0)
     std::vector<double> alpha; ///< per substep: the fraction integrated on the E_ur branch
   };
 
@@ -293,9 +296,16 @@ public:
     if (!replay) {
       rec.recovery = false;
       const double big = de.cwiseAbs().maxCoeff();
-      rec.substeps = c_.update == Update::explicit_step
-                         ? 1
-                         : std::clamp(static_cast<int>(std::ceil(big / c_.max_substep_strain)), 1, 100000);
+      if (c_.update != Update::explicit_step && !(big <= c_.max_substep_strain * c_.max_substeps)) {
+        // Thousands of substeps per point and evaluation would stall the run for minutes (a
+        // wild iterate of a large load step): fail, and let the step driver cut the step back.
+        rec.too_large = big;
+        return stress_n;
+      }
+      rec.substeps =
+          c_.update == Update::explicit_step
+              ? 1
+              : std::clamp(static_cast<int>(std::ceil(big / c_.max_substep_strain)), 1, c_.max_substeps);
       rec.alpha.assign(static_cast<std::size_t>(rec.substeps), 0.0);
     }
     const Vec6 dd = de / rec.substeps;
@@ -468,6 +478,13 @@ public:
       return Outcome::failure(Status::non_finite, "duncan_chang: non-finite strain or stress" + where());
     Record rec;
     out.stress = evaluate(in, in.dstrain, out.history, rec, false);
+    if (rec.too_large > 0.0) {
+      std::ostringstream m;
+      m << "duncan_chang: strain increment " << rec.too_large
+        << " needs more than max_substeps = " << c_.max_substeps << " substeps of " << c_.max_substep_strain
+        << where();
+      return Outcome::failure(Status::material_failure, m.str());
+    }
     if (!in.want_tangent) {
       if (!out.stress.allFinite())
         return Outcome::failure(Status::non_finite, "duncan_chang: the stress is not finite" + where());

@@ -91,6 +91,12 @@ inline void declare(Schema& s, Family fam) {
   s.real("max_substep_strain", "-", "incremental update: largest strain component change per substep")
       .greater_than(0.0)
       .defaults_to(1e-4);
+  s.integer("max_substeps", "-",
+            "incremental update: most substeps per increment; a larger strain increment (a wild iterate or "
+            "too large a load step) fails, so the step is cut back instead of integrated at great cost")
+      .at_least(1)
+      .at_most(100000)
+      .defaults_to(1000LL);
   if (fam == Family::duncan_chang) {
     s.real("recovery_min_strain", "-",
            "recovery: the major compressive strain below which the step is integrated incrementally")
@@ -132,6 +138,7 @@ inline Constants read(const Params& p, Family fam) {
   c.tangent_stabilization = p.real("tangent_stabilization");
   c.tension_cutoff = p.flag("tension_cutoff");
   c.max_substep_strain = p.real("max_substep_strain");
+  c.max_substeps = static_cast<int>(p.integer("max_substeps"));
   c.levels = p.real_list("sigma3_levels");
 
   // Which parameters this form needs.

@@ -1,0 +1,200 @@
+// The reduced numerical stability matrix (issue 8): a representative subset of
+// tools/benchmarks/bench_stability's runs, each a `stratum run` child process, asserting no crash,
+// no timeout, no NaN/Inf in any output and no silent failure. First the harness itself is
+// shown to catch each of those.
+#include "../tools/benchmarks/stability_harness.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <vtkDoubleArray.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <sys/stat.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+namespace st = stratum::bench::stability;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const auto d = fs::temp_directory_path() / ("stratum_test_stability_" + std::to_string(getpid())) / name;
+  fs::create_directories(d);
+  return d;
+}
+
+/// A stand-in for the stratum executable: a shell script doing `body`.
+fs::path fake_exe(const fs::path& dir, const std::string& body) {
+  const auto p = dir / "fake_stratum.sh";
+  {
+    std::ofstream f(p);
+    f << "#!/bin/sh\n" << body << "\n";
+  }
+  chmod(p.c_str(), 0755);
+  return p;
+}
+
+} // namespace
+
+TEST_CASE("stability harness: TOML edits", "[stability]") {
+  const std::string t =
+      "title = \"x\"\n[analysis]\nsteps = 25 # c\n[solver]\nline_search = 8\n[materials.a]\n"
+      "model = \"von_mises\"\n";
+  std::string r = st::set_steps(t, 7);
+  CHECK(r.find("steps = 7\n") != std::string::npos);
+  CHECK(r.find("steps = 25") == std::string::npos);
+  r = st::set_solver(r, "kinsol");
+  CHECK(r.find("[solver]") == std::string::npos);
+  CHECK(r.find("solver = \"kinsol\"") != std::string::npos);
+  r = st::set_key(r, "[materials.a]", "integrator", "\"midpoint\"");
+  CHECK(r.find("[materials.a]\nintegrator = \"midpoint\"\n") != std::string::npos);
+  const std::string staged = "[analysis]\n[[stages]]\nname = \"a\"\nsteps = 4\n[[stages]]\nname = \"b\"\n"
+                             "steps = 60\n[[stages.actions]]\ntype = \"load\"\n";
+  const std::string s2 = st::set_steps(staged, 3);
+  CHECK(s2.find("steps = 4\n") != std::string::npos);
+  CHECK(s2.find("name = \"b\"\nsteps = 3\n") != std::string::npos);
+}
+
+TEST_CASE("stability harness: catches crashes, NaN/Inf and silent failures", "[stability]") {
+  const auto dir = scratch("harness");
+  SECTION("NaN in CSV text and Inf in a VTK array") {
+    long n = 0;
+    CHECK(st::scan_text("a,b\n1,2.5e-3\n\"message with inf inside\",3\n", n).empty());
+    CHECK(st::scan_text("1,-nan,3\n", n) == "-nan");
+    CHECK(st::scan_text("1,\"residual is NaN or Inf\",nan\n", n) == "nan");
+    CHECK(st::scan_text("1;2;inf\n", n) == "inf");
+    const auto out = dir / "vtk";
+    fs::create_directories(out);
+    vtkNew<vtkUnstructuredGrid> g;
+    vtkNew<vtkPoints> p;
+    p->InsertNextPoint(0, 0, 0);
+    p->InsertNextPoint(1, 0, 0);
+    g->SetPoints(p);
+    vtkNew<vtkDoubleArray> a;
+    a->SetName("stress");
+    a->InsertNextValue(1.0);
+    a->InsertNextValue(std::numeric_limits<double>::infinity());
+    g->GetPointData()->AddArray(a);
+    vtkNew<vtkXMLUnstructuredGridWriter> w;
+    w->SetFileName((out / "s_0.vtu").c_str());
+    w->SetInputData(g);
+    w->SetDataModeToAppended();
+    w->SetCompressorTypeToZLib();
+    REQUIRE(w->Write() == 1);
+    st::Outcome o;
+    CHECK(st::scan_outputs(out, o) == "s_0.vtu: stress");
+  }
+  SECTION("a signal is a crash") {
+    const auto o = st::run_case(fake_exe(dir, "kill -SEGV $$"), "", dir / "run", 10);
+    CHECK(o.kind == st::Kind::crash);
+  }
+  SECTION("exit 3 is a crash") {
+    const auto o =
+        st::run_case(fake_exe(dir, "echo 'stratum: internal error: x' >&2; exit 3"), "", dir / "run", 10);
+    CHECK(o.kind == st::Kind::crash);
+  }
+  SECTION("a hang is a timeout") {
+    const auto o = st::run_case(fake_exe(dir, "sleep 30"), "", dir / "run", 0.5);
+    CHECK(o.kind == st::Kind::timeout);
+    CHECK(o.seconds < 10);
+  }
+  SECTION("exit 0 short of load factor 1 is silent") {
+    const std::string csv =
+        "stage,step,accepted,lambda_n,lambda,iterations\\n1,1,1,0,0.5,3\\n1,2,0,0.5,1,40\\n";
+    const auto o = st::run_case(
+        fake_exe(dir, "mkdir -p \"$4\"; printf '" + csv + "' > \"$4/diagnostics.csv\"; echo 'done: 1 steps'"),
+        "", dir / "run", 10);
+    CHECK(o.kind == st::Kind::silent);
+  }
+  SECTION("exit 0 with NaN in the printed table") {
+    const std::string csv = "stage,step,accepted,lambda_n,lambda\\n1,1,1,0,1\\n";
+    const auto o =
+        st::run_case(fake_exe(dir, "mkdir -p \"$4\"; printf '" + csv +
+                                       "' > \"$4/diagnostics.csv\"; echo 'done: 1 steps'; echo '  nan  1.0'"),
+                     "", dir / "run", 10);
+    CHECK(o.kind == st::Kind::nan_inf);
+  }
+  SECTION("exit 2 needs one message line") {
+    CHECK(st::run_case(fake_exe(dir, "exit 2"), "", dir / "run", 10).kind == st::Kind::silent);
+    CHECK(st::run_case(fake_exe(dir, "echo 'stratum: s.toml: not converged: x' >&2; exit 2"), "", dir / "run",
+                       10)
+              .kind == st::Kind::failed);
+  }
+  std::error_code ec;
+  fs::remove_all(dir.parent_path(), ec);
+}
+
+TEST_CASE("stability matrix, reduced: no crash, NaN/Inf or silent failure", "[stability]") {
+  const fs::path src = STRATUM_SOURCE_DIR;
+  std::vector<st::Scene> scenes;
+  for (const char* f :
+       {"inputs/verification/lame_axisymmetric.toml", "inputs/verification/lame_plane_strain.toml",
+        "inputs/verification/circular_load.toml", "inputs/verification/hill_cylinder.toml",
+        "inputs/verification/strip_footing.toml"})
+    scenes.push_back(st::input_scene(src, f));
+  scenes.push_back(st::variant(scenes[0], "nu=0.499", "[materials.steel]", "nu", "0.499"));
+  scenes.push_back(st::variant(scenes[3], "nu=0.499", "[materials.steel]", "nu", "0.499"));
+  scenes.push_back(st::duncan_chang_near_failure(0.99));
+  scenes.push_back(st::cap_near_apex());
+  const auto dir = scratch("matrix");
+  const auto t0 = std::chrono::steady_clock::now();
+  int runs = 0, converged = 0;
+  for (const auto& s : scenes) {
+    std::vector<std::string> integ{""};
+    if (s.integ_key == "integrator")
+      integ = {"forward_euler", "closest_point"};
+    else if (!s.integrators.empty())
+      integ = s.integrators;
+    // The strip footing (520 quad8 cells) is the expensive one: Newton at 5 increments only.
+    const bool strip = s.name.rfind("strip_footing", 0) == 0;
+    const std::vector<std::string> solvers =
+        strip ? std::vector<std::string>{"newton"} : std::vector<std::string>{"newton", "modified_newton"};
+    const std::vector<int> increments = strip ? std::vector<int>{5} : std::vector<int>{1, 5, 20};
+    for (const auto& in : integ)
+      for (const auto& solver : solvers)
+        for (int n : increments) {
+          const auto o = st::run_case(STRATUM_EXE, st::run_text(s, solver, in, n), dir / "run", 120);
+          INFO(s.name << ", " << (in.empty() ? "-" : in) << ", " << solver << ", " << n
+                      << " increments: " << st::to_string(o.kind) << " (" << o.message << ")");
+          CHECK_FALSE(st::is_bug(o.kind));
+          // The outputs were really read: diagnostics.csv at least, and numbers in it.
+          CHECK(o.files_checked >= 1);
+          CHECK(o.values_checked > 0);
+          ++runs;
+          converged += o.kind == st::Kind::converged;
+        }
+  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  WARN(runs << " runs, " << converged << " converged, " << secs << " s");
+  // Most of the subset converges: a harness that failed every run would not pass.
+  CHECK(converged * 2 > runs);
+  std::error_code ec;
+  fs::remove_all(dir.parent_path(), ec);
+}
+
+TEST_CASE("stability harness: diagnostics.csv may record the NaN of a rejected attempt only", "[stability]") {
+  const auto dir = scratch("diag");
+  const std::string head = "stage,step,accepted,lambda_n,lambda,iterations,residuals,message\n";
+  {
+    std::ofstream f(dir / "diagnostics.csv");
+    f << head << "1,1,0,0,1,2,1;nan,\"residual is NaN or Inf\"\n1,1,1,0,0.5,3,1;1e-9,\"\"\n";
+  }
+  st::Outcome o;
+  CHECK(st::scan_outputs(dir, o).empty());
+  {
+    std::ofstream f(dir / "diagnostics.csv");
+    f << head << "1,1,1,0,1,2,1;nan,\"\"\n";
+  }
+  CHECK(st::scan_outputs(dir, o) == "diagnostics.csv: nan");
+  std::error_code ec;
+  fs::remove_all(dir.parent_path(), ec);
+}
