@@ -656,3 +656,21 @@ TEST_CASE("duncan_chang: a strain increment beyond max_substeps fails the update
   de[1] = -0.5;
   CHECK(update(dc::DuncanChang(c), s, e, hist(0, 0), de).o.ok());
 }
+
+TEST_CASE("duncan_chang: point_status marks failed and tension-cut points for the output", "[duncan_chang]") {
+  const dc::DuncanChang m(constants(dc::Update::explicit_step));
+  const std::vector<double> h(8, 0.0);
+  const double s3 = 50.0, qf = q_f(loess_a(), s3);
+  auto triaxial = [&](double q) { // compression positive s1 = s3 + q (vertical), tension-positive Voigt
+    stratum::Vec6 s = stratum::Vec6::Zero();
+    s[0] = s[2] = -s3;
+    s[1] = -(s3 + q);
+    return s;
+  };
+  CHECK(m.point_status(triaxial(0.5 * qf), h) == 0);
+  CHECK(m.point_status(triaxial(0.98 * qf), h) == 0);
+  CHECK(m.point_status(triaxial(1.0 * qf), h) == 1);
+  stratum::Vec6 cut = triaxial(20.0);
+  cut[0] = 0.0; // a principal stress at zero: cut off in tension
+  CHECK(m.point_status(cut, h) == 2);
+}

@@ -2,6 +2,11 @@
 // programme than the default run: staged construction, head load, curves, checkpoints,
 // a restart from the concrete stage, the plots.
 #include <catch2/catch.hpp>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkXMLPolyDataReader.h>
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -91,6 +96,30 @@ TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_
       0);
   CHECK(slurp(dir / "restarted" / "curves" / "load_settlement.csv") == ls);
 
+  // The integration points carry the per-point status "plastic" (Material::point_status): the
+  // Duncan-Chang soil reports 0, 1 or 2, linear cells (pile, far zone) -1, interfaces -1.
+  {
+    int last = -1;
+    for (const auto& e : fs::directory_iterator(res)) {
+      const std::string n = e.path().filename().string();
+      if (n.rfind("pile_ip_", 0) == 0) last = std::max(last, std::stoi(n.substr(8)));
+    }
+    REQUIRE(last > 0);
+    auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    reader->SetFileName((res / ("pile_ip_" + std::to_string(last) + ".vtp")).string().c_str());
+    reader->Update();
+    vtkDataArray* plastic = reader->GetOutput()->GetPointData()->GetArray("plastic");
+    REQUIRE(plastic != nullptr);
+    int soil = 0, other = 0;
+    for (vtkIdType i = 0; i < plastic->GetNumberOfTuples(); ++i) {
+      const double v = plastic->GetTuple1(i);
+      CHECK((v == -1.0 || v == 0.0 || v == 1.0 || v == 2.0));
+      (v >= 0 ? soil : other) += 1;
+    }
+    CHECK(soil > 100);
+    CHECK(other > 10);
+  }
+
   // The plots, where matplotlib is installed (tools/run draws them the same way).
   if (sh("/usr/bin/python3 -c 'import matplotlib' 2>/dev/null") == 0) {
     REQUIRE(sh("/usr/bin/python3 " + std::string(STRATUM_SOURCE_DIR) + "/tools/plot_pile.py " +
@@ -98,6 +127,13 @@ TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_
     CHECK(fs::file_size(res / "curves" / "load_settlement.png") > 1000);
     CHECK(fs::file_size(res / "curves" / "axial_force.png") > 1000);
     CHECK(fs::file_size(res / "curves" / "shaft_traction.png") > 1000);
+    // The plastic zone at a chosen load (without ParaView's modules the script draws it with VTK's
+    // Python reader and matplotlib).
+    if (sh("/usr/bin/python3 -c 'import vtkmodules' 2>/dev/null") == 0) {
+      REQUIRE(sh("/usr/bin/python3 " + std::string(STRATUM_SOURCE_DIR) + "/tools/plastic_zone.py " +
+                 res.string() + " --load 5 -o " + (dir / "zone.png").string() + " > /dev/null") == 0);
+      CHECK(fs::file_size(dir / "zone.png") > 1000);
+    }
   }
   fs::remove_all(dir);
 }

@@ -958,7 +958,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
     }
   out.point_fields = {std::move(disp), std::move(reac)};
   Field stress{"stress", 6, {}}, set_id{"set_id", 1, {}};
-  Field ip_stress{"stress", 6, {}}, ip_strain{"strain", 6, {}};
+  Field ip_stress{"stress", 6, {}}, ip_strain{"strain", 6, {}}, ip_plastic{"plastic", 1, {}};
   std::size_t total_points = 0;
   for (const auto& dm : m.domains)
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)
@@ -985,6 +985,8 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
             ip_stress.values.push_back(slot.stress()[k]);
             ip_strain.values.push_back(slot.strain()[k]);
           }
+          ip_plastic.values.push_back(
+              dm.law.material ? dm.law.material->point_status(slot.stress(), slot.history()) : -1.0);
         }
       }
       for (int k = 0; k < 6; ++k) stress.values.push_back(avg[k]);
@@ -996,7 +998,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
       }
     }
   out.cell_fields = {std::move(stress), std::move(set_id)};
-  if (ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain)};
+  if (ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain), std::move(ip_plastic)};
   if (ip_output && !interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
   w.write(out);
   for (const auto& itf : interfaces.interfaces)

@@ -469,6 +469,11 @@ public:
   [[nodiscard]] Integration integration() const { return integration_; }
   [[nodiscard]] int history_size() const override { return 3; }
   [[nodiscard]] bool symmetric_tangent() const override { return true; } // associated flow
+  /// The regime of the last increment (history[2]): 0 elastic, 1 tension, 2 envelope, 3 corner,
+  /// 4 cap.
+  [[nodiscard]] int point_status(const Vec6& /*stress*/, std::span<const double> h) const override {
+    return static_cast<int>(h[2]);
+  }
 
   /// kappa of the initial cap X0 = Z, widened (normally consolidated) until the cap passes
   /// through the initial stress when that stress lies outside it.

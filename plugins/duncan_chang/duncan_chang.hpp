@@ -182,6 +182,13 @@ public:
     for (int i = 0; i < 6; ++i) e[i] = h[static_cast<std::size_t>(2 + i)];
     return e;
   }
+  /// 0 below failure; 1 at failure (stress level S = q / q_f >= 0.99); 2 tension cut off (the
+  /// minor principal stress is not compressive).
+  [[nodiscard]] int point_status(const Vec6& stress, std::span<const double> /*history*/) const override {
+    if (principal(stress).s3 <= 0.0) return 2;
+    return point(stress).S >= 0.99 ? 1 : 0;
+  }
+
   /// The tangent of a finite step is not symmetric in general (stress-dependent moduli, recovery).
   [[nodiscard]] bool symmetric_tangent() const override { return false; }
 

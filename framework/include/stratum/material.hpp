@@ -57,6 +57,13 @@ public:
   /// True when the tangent is symmetric (chooses Cholesky over LU).
   [[nodiscard]] virtual bool symmetric_tangent() const { return true; }
 
+  /// What the committed state of a point is, for the output field "plastic": -1 when the model
+  /// does not say (the default), 0 elastic (below yield or failure), >= 1 yielding or failed
+  /// (a model may use several codes for its regimes; its README lists them).
+  [[nodiscard]] virtual int point_status(const Vec6& /*stress*/, std::span<const double> /*history*/) const {
+    return -1;
+  }
+
   /// The constitutive update. Must fill out.stress, out.history and (when in.want_tangent)
   /// out.tangent.
   [[nodiscard]] virtual Outcome update(const MaterialInput& in, MaterialOutput& out) const = 0;
