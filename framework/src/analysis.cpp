@@ -32,6 +32,17 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// Runs f() and adds its wall time to `seconds`; returns what f returns.
+template <class F> decltype(auto) timed(double& seconds, F&& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  struct Add {
+    double& s;
+    std::chrono::steady_clock::time_point t0;
+    ~Add() { s += seconds_since(t0); }
+  } add{seconds, t0};
+  return f();
+}
+
 using io::check_table;
 using io::location;
 using io::require_string;
@@ -47,9 +58,7 @@ public:
   Eigen::Index size() const override { return m_.dofs.free_count; }
   Outcome evaluate(const Eigen::VectorXd& u, double lambda, Eigen::VectorXd& r, SparseMatrix* k) override {
     m_.expand(u, lambda, full_);
-    const auto t0 = std::chrono::steady_clock::now();
-    Outcome o = a_.assemble(m_, full_, fint_, k);
-    times_.assembly += seconds_since(t0);
+    Outcome o = timed(times_.assembly, [&] { return a_.assemble(m_, full_, fint_, k); });
     ++times_.assemblies;
     if (!o.ok()) return o;
     r.resize(size());
@@ -88,25 +97,16 @@ public:
       : inner_(std::move(inner)), times_(times) {}
   std::string name() const override { return inner_->name(); }
   Outcome analyze(const SparseMatrix& a) override {
-    const auto t0 = std::chrono::steady_clock::now();
-    Outcome o = inner_->analyze(a);
-    times_.analyze += seconds_since(t0);
     ++times_.analyses;
-    return o;
+    return timed(times_.analyze, [&] { return inner_->analyze(a); });
   }
   Outcome factorize(const SparseMatrix& a) override {
-    const auto t0 = std::chrono::steady_clock::now();
-    Outcome o = inner_->factorize(a);
-    times_.factorize += seconds_since(t0);
     ++times_.factorizations;
-    return o;
+    return timed(times_.factorize, [&] { return inner_->factorize(a); });
   }
   Outcome solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
-    const auto t0 = std::chrono::steady_clock::now();
-    Outcome o = inner_->solve(b, x);
-    times_.solve += seconds_since(t0);
     ++times_.solves;
-    return o;
+    return timed(times_.solve, [&] { return inner_->solve(b, x); });
   }
 
 private:
@@ -913,12 +913,8 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
       g.text("cells", {}, "cell set whose top faces are pushed down (a pile head)");
       g.real("settlement", "m", "downward head displacement at the end of the stage").greater_than(0);
       const auto q = check_table(at, g, actx + " type = \"load\" (head displacement)", {"type"});
-      if (!model.mesh.cell_sets.count(q.text("cells")))
-        throw Error(q.where("cells"),
-                    actx + " cells = \"" + q.text("cells") +
-                        "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
       a.kind = Action::Kind::displacement;
-      a.cells = q.text("cells");
+      a.cells = cell_set(q, "cells");
       a.uy = -q.real("settlement");
     } else if (type == "reset_displacements") {
       (void)check_table(at, Schema{}, actx + " type = \"reset_displacements\"", {"type"});
@@ -1265,11 +1261,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     if (options.on_step) options.on_step(step, nominal_steps, m.lambda, rep);
     if (options.on_record) options.on_record(rec);
     written = writer && st.vtk && step % st.every == 0;
-    if (written) {
-      const auto t0 = std::chrono::steady_clock::now();
-      write_step(*writer, time);
-      summary.times.output += seconds_since(t0);
-    }
+    if (written) timed(summary.times.output, [&] { write_step(*writer, time); });
     record();
   };
   bool settled = false;
@@ -1284,11 +1276,8 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     r.stage = static_cast<int>(k) + 1;
     summary.records.push_back(std::move(r));
   }
-  if (writer && st.vtk && step > 0 && !written) {
-    const auto t0 = std::chrono::steady_clock::now();
-    write_step(*writer, time);
-    summary.times.output += seconds_since(t0);
-  }
+  if (writer && st.vtk && step > 0 && !written)
+    timed(summary.times.output, [&] { write_step(*writer, time); });
   if (!res.outcome.ok()) {
     if (st.until_failure) {
       summary.stop_reason = "failure";
@@ -1341,9 +1330,7 @@ RunSummary Analysis::run() {
   std::unique_ptr<VtkSeriesWriter> writer;
   if (s.options.write_output && s.vtk) {
     writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string());
-    const auto t0 = std::chrono::steady_clock::now();
-    s.write_step(*writer, s.time);
-    summary.times.output += seconds_since(t0);
+    timed(summary.times.output, [&] { s.write_step(*writer, s.time); });
   }
   std::vector<std::array<double, 3>> axial_rows;
   for (std::size_t k = first; k < s.stages.size(); ++k) {
