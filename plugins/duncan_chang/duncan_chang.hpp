@@ -108,11 +108,21 @@ struct Constants {
 struct Principal {
   double s1 = 0, s2 = 0, s3 = 0;
 };
+/// The in-plane principal pair of a 2D state (plane strain, axisymmetry: s_yz = s_zx = 0, so
+/// s_zz is principal): mean m, half-difference h of s_xx and s_yy, Mohr radius r. Closed form,
+/// exact to round-off; the hot spot of the pile scene's profile was the iterative 3x3 solver.
+struct InPlane {
+  double m = 0, h = 0, r = 0;
+};
+[[nodiscard]] inline bool is_2d(const Vec6& s) { return s[4] == 0.0 && s[5] == 0.0; }
+[[nodiscard]] inline InPlane in_plane(const Vec6& s) {
+  const double h = 0.5 * (s[0] - s[1]);
+  return {0.5 * (s[0] + s[1]), h, std::hypot(h, s[3])};
+}
+
 [[nodiscard]] inline Principal principal(const Vec6& sigma) {
-  if (sigma[4] == 0.0 && sigma[5] == 0.0) {
-    // Plane strain and axisymmetry (the profile's hot spot): sigma_zz is principal and the
-    // in-plane pair has a closed form, exact to round-off.
-    const double m = 0.5 * (sigma[0] + sigma[1]), r = std::hypot(0.5 * (sigma[0] - sigma[1]), sigma[3]);
+  if (is_2d(sigma)) {
+    const auto [m, h, r] = in_plane(sigma);
     double a = m - r, b = m + r, c = sigma[2]; // sort ascending (tension positive)
     if (c < a) std::swap(a, c);
     if (c < b) std::swap(b, c);
@@ -422,9 +432,8 @@ public:
 
   /// Sets tensile principal stresses to zero (principal directions kept).
   [[nodiscard]] static Vec6 cut_tension(const Vec6& s) {
-    if (s[4] == 0.0 && s[5] == 0.0) {
-      // Plane strain and axisymmetry: sigma_zz is principal, the in-plane pair in closed form.
-      const double m = 0.5 * (s[0] + s[1]), h = 0.5 * (s[0] - s[1]), r = std::hypot(h, s[3]);
+    if (is_2d(s)) {
+      const auto [m, h, r] = in_plane(s);
       if (std::max(m + r, s[2]) <= 0.0) return s;
       const double l1 = std::min(m + r, 0.0), l2 = std::min(m - r, 0.0);
       // Direction of the larger in-plane principal stress: (cos t, sin t), t = atan2(s_xy, h) / 2.
