@@ -167,6 +167,95 @@ TEST_CASE("cap_sandler: tension cut-off regime", "[cap]") {
 }
 
 // ------------------------------------------------------------------------------------------
+TEST_CASE("cap_sandler: retraction = above_initial stops the cap at X0 = Z, free lets it retract", "[cap]") {
+  // The tension case above: from J1 = 30 kPa (the initial cap widened to X = 30, eps_v^p =
+  // W (1 - exp(-30 D)) = 4.13e-4) the return to J1 = -T adds d eps_v^p = (J1E + T)/(3K) =
+  // -6.67e-4. free: X = Z - ln(1 - (e0 + dev)/W)/D < Z; above_initial: X = Z exactly. A
+  // hydrostatic recompression then hardens from X = Z by the M7 closed form
+  // eps_v^p = W (1 - exp(-D (I1 - Z))): the dilation below the virgin state is not remembered.
+  cs::Constants free_c = loess(0.0), held = loess(0.0);
+  held.free_retraction = false;
+  const Vec6 s0 = isotropic(10.0);
+  const double J1E = 30.0 - 3 * free_c.K() * 2e-3;
+  const double e0 = free_c.eps_of_X(30.0), dev = (J1E + free_c.T) / (3 * free_c.K());
+  REQUIRE(e0 + dev < 0.0);
+  for (auto integ : {cs::Integration::sandler_rubin, cs::Integration::closest_point}) {
+    INFO((integ == cs::Integration::sandler_rubin ? "sandler_rubin" : "closest_point"));
+    const cs::CapSandler mf(free_c, integ), mh(held, integ);
+    Point a(mf, s0), b(mh, s0);
+    REQUIRE(a.step(volumetric(2e-3)).ok());
+    REQUIRE(b.step(volumetric(2e-3)).ok());
+    CHECK(a.regime() == cs::Regime::tension);
+    CHECK(b.regime() == cs::Regime::tension);
+    CHECK(cs::J1c(b.stress) == Approx(-held.T).epsilon(1e-12));
+    CHECK(free_c.X(a.kappa()) ==
+          Approx(free_c.Z - std::log1p(-(e0 + dev) / free_c.W) / free_c.D).epsilon(1e-10));
+    CHECK(free_c.X(a.kappa()) < held.Z - 1.0);               // retracted by more than 1 kPa
+    CHECK(held.X(b.kappa()) == Approx(held.Z).margin(1e-9)); // held at X0 = Z
+    REQUIRE(b.step(volumetric(2e-3)).ok());                  // more tension: still held
+    CHECK(held.X(b.kappa()) == Approx(held.Z).margin(1e-9));
+    // recompress hydrostatically: elastic to J1 = Z, then the cap moves by M7 from Z
+    const double I1_start = cs::J1c(b.stress);
+    double total = 0.0;
+    for (int i = 0; i < 20; ++i) {
+      REQUIRE(b.step(volumetric(-2e-4)).ok());
+      total += 2e-4;
+    }
+    const double I1 = cs::J1c(b.stress);
+    REQUIRE(I1 > held.Z + 50.0);
+    const double ep_closed = held.W * (1 - std::exp(-held.D * (I1 - held.Z)));
+    CHECK(held.eps_of_kappa(b.kappa()) == Approx(ep_closed).epsilon(1e-8));
+    CHECK(total == Approx((I1 - I1_start) / (3 * held.K()) + ep_closed).epsilon(1e-6));
+  }
+}
+
+// ------------------------------------------------------------------------------------------
+TEST_CASE("cap_sandler: closest point at a near-triple corner (envelope, cap, tension)", "[cap]") {
+  // A state of the loess pile scene beside the pile toe: the stress sits on the corner of
+  // envelope and cap at J1 = kappa = -29.59 kPa, 0.41 kPa from the tension cut-off J1 = -30.
+  // The active-set strategy cycles between {envelope, cap, tension} and two-surface sets; the
+  // exhaustive fallback must return an admissible stress (every f <= tol) whose plastic strain
+  // is a non-negative combination of the normals of the surfaces active there (normal flow),
+  // with the hardening law satisfied.
+  cs::Constants c = loess(0.0);
+  c.free_retraction = false;
+  const cs::CapSandler m(c, cs::Integration::closest_point);
+  Vec6 s0;
+  s0 << -33.913756890810596, 39.7665869336168, 23.734395641883463, 64.223836518869078, 0, 0;
+  Point p(m, s0);
+  p.history[0] = -29.587225684683457;
+  const std::array<double, 1> q0{c.eps_of_kappa(p.history[0])};
+  const auto& model = m.model();
+  for (int k = 0; k < 3; ++k) REQUIRE(model.yield(k, s0, q0) < 1e-6); // admissible start
+  Vec6 de;
+  de << -1.3287895913653105e-05, 3.3118548934543929e-05, -5.9408440229013675e-07, 8.0490359803870871e-05, 0,
+      0;
+  const double k0 = p.kappa();
+  REQUIRE(p.step(de).ok());
+  const std::array<double, 1> q{c.eps_of_kappa(p.kappa())};
+  const double tol = 1e-8 * model.stress_scale(p.stress, q);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> N(6, 0);
+  for (int k = 0; k < 3; ++k) {
+    const double f = model.yield(k, p.stress, q);
+    INFO("surface " << k << ": f = " << f);
+    CHECK(f <= tol * c.R);
+    if (std::abs(f) <= tol * c.R) {
+      N.conservativeResize(6, N.cols() + 1);
+      N.col(N.cols() - 1) = model.yield_gradient(k, p.stress, q);
+    }
+  }
+  REQUIRE(N.cols() >= 1);
+  const Vec6 ep = plastic_increment(c, s0, p.stress, de);
+  const Eigen::VectorXd l = N.colPivHouseholderQr().solve(ep);
+  INFO("multipliers " << l.transpose());
+  CHECK(l.minCoeff() >= -1e-12);
+  CHECK((N * l - ep).norm() < 1e-7 * ep.norm());
+  // hardening: the cap moves with the plastic volume change (held at Z when it dilates below)
+  const double e_new = c.moving(c.eps_of_kappa(k0) - (ep[0] + ep[1] + ep[2]));
+  CHECK(c.eps_of_kappa(p.kappa()) == Approx(e_new).margin(1e-12));
+}
+
+// ------------------------------------------------------------------------------------------
 TEST_CASE("cap_sandler: envelope regime, straight envelope against the Drucker-Prager closed form", "[cap]") {
   // C -> 0 leaves the straight envelope sqrt(J2) = A + theta J1. A simple-shear increment
   // from an isotropic state far inside the cap: trial J1E = 3 p, sqrt(J2E) = G gamma, and the

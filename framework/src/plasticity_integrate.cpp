@@ -744,10 +744,29 @@ std::string set_str(const std::vector<int>& s) {
   return o + "}";
 }
 
+/// Converged state of the implicit system on one fixed active set, if admissible: non-negative
+/// multipliers and no inactive surface violated.
+bool admissible_on(const Context& c, const ImplicitSystem& sys, const std::vector<int>& active, VecX& x) {
+  const int na = static_cast<int>(active.size());
+  x = sys.start(na);
+  if (newton(c, sys, active, x).status != NewtonStatus::converged) return false;
+  if (na > 0 && x.tail(na).minCoeff() < 0.0) return false;
+  const Vec6 sigma = x.head<6>();
+  const VecX q = x.segment(6, c.nq);
+  const double tol = c.tol(sigma, q);
+  for (int k = 0; k < c.m; ++k)
+    if (std::find(active.begin(), active.end(), k) == active.end() && c.f(k, sigma, q) > tol) return false;
+  return true;
+}
+
 /// Implicit integration with the active-set strategy: start with the surfaces violated by the
 /// elastic trial, drop the surface with the most negative multiplier, add the most violated
-/// inactive surface, until neither applies. Returns the converged state; with `consistent` the
-/// algorithmic tangent d sigma / d de from the linearized residual system.
+/// inactive surface, until neither applies. When that strategy cycles or its Newton iteration
+/// fails on a set of several surfaces (near-degenerate corners, e.g. three surfaces meeting
+/// almost in one point), every set of surfaces is tried, smallest first, and the first
+/// admissible solution is taken (for a convex elastic domain and associated flow it is the
+/// closest point). Returns the converged state; with `consistent` the algorithmic tangent
+/// d sigma / d de from the linearized residual system.
 Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, const VecX& q0,
                  const Vec6& de, bool consistent, State& st) {
   const ImplicitSystem sys(c, rule, alpha, sigma0, q0, de);
@@ -764,18 +783,42 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
     return Outcome::success();
   }
 
+  // Every non-empty set of surfaces, smallest first; the first admissible solution.
+  auto exhaustive = [&](const std::string& why, VecX& x) -> Outcome {
+    if (c.m > 12) return fail(c, Status::material_failure, why);
+    std::vector<std::vector<int>> sets;
+    for (unsigned mask = 1; mask < (1u << c.m); ++mask) {
+      std::vector<int> set;
+      for (int k = 0; k < c.m; ++k)
+        if (mask & (1u << k)) set.push_back(k);
+      sets.push_back(std::move(set));
+    }
+    std::stable_sort(sets.begin(), sets.end(),
+                     [](const auto& a, const auto& b) { return a.size() < b.size(); });
+    for (const auto& set : sets)
+      if (admissible_on(c, sys, set, x)) {
+        active = set;
+        return Outcome::success();
+      }
+    return fail(c, Status::material_failure, why + "; no set of surfaces gives an admissible return");
+  };
+
   std::set<std::vector<int>> seen;
   const int max_changes = 4 * c.m + 4;
   int total_iterations = 0;
+  VecX x;
   for (int change = 0;; ++change) {
     std::vector<int> key = active;
     std::sort(key.begin(), key.end());
-    if (change > max_changes || !seen.insert(key).second)
-      return fail(c, Status::material_failure,
-                  "the active set of surfaces did not settle (" + std::to_string(change) + " changes, last " +
-                      set_str(active) + ")");
+    if (change > max_changes || !seen.insert(key).second) {
+      const Outcome o = exhaustive("the active set of surfaces did not settle (" + std::to_string(change) +
+                                       " changes, last " + set_str(active) + ")",
+                                   x);
+      if (!o.ok()) return o;
+      break;
+    }
     const int na = static_cast<int>(active.size());
-    VecX x = sys.start(na);
+    x = sys.start(na);
     const NewtonResult nr = newton(c, sys, active, x);
     total_iterations += nr.iterations;
     if (nr.status == NewtonStatus::non_finite)
@@ -792,14 +835,17 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
       return fail(c, Status::material_failure,
                   "singular local Jacobian after " + std::to_string(total_iterations) + " iterations");
     }
-    if (nr.status == NewtonStatus::not_converged)
-      return fail(c, Status::material_failure,
-                  "no convergence after " + std::to_string(nr.iterations) + " iterations (max_iterations = " +
-                      std::to_string(c.settings.max_iterations) + "), |f| = " + num(nr.fmax) +
-                      " (tolerance " + num(nr.tol) + "), active surfaces " + set_str(active));
+    if (nr.status == NewtonStatus::not_converged) {
+      const std::string why = "no convergence after " + std::to_string(nr.iterations) +
+                              " iterations (max_iterations = " + std::to_string(c.settings.max_iterations) +
+                              "), |f| = " + num(nr.fmax) + " (tolerance " + num(nr.tol) +
+                              "), active surfaces " + set_str(active);
+      if (na < 2) return fail(c, Status::material_failure, why);
+      const Outcome o = exhaustive(why, x);
+      if (!o.ok()) return o;
+      break;
+    }
 
-    const Vec6 sigma = x.head<6>();
-    const VecX q = x.segment(6, c.nq);
     const VecX dl = x.tail(na);
     Eigen::Index worst = 0;
     if (dl.minCoeff(&worst) < 0.0 && na > 0) {
@@ -808,6 +854,8 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
         return fail(c, Status::material_failure, "all plastic multipliers negative (no admissible return)");
       continue;
     }
+    const Vec6 sigma = x.head<6>();
+    const VecX q = x.segment(6, c.nq);
     const double tol = c.tol(sigma, q);
     int add = -1;
     double fadd = tol;
@@ -816,28 +864,26 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
       const double fk = c.f(k, sigma, q);
       if (fk > fadd) add = k, fadd = fk;
     }
-    if (add >= 0) {
-      active.push_back(add);
-      continue;
-    }
-
-    st.sigma = sigma, st.q = q, st.active = active;
-    if (consistent) {
-      // sigma(de) from R(x(de); de) = 0: dx/dde = -J^-1 dR/dde, dR/dde = [-T_e; 0; 0].
-      VecX R;
-      MatX J;
-      Mat6 Te;
-      sys.evaluate(x, active, R, &J, &Te);
-      ScaledLU lu;
-      if (!lu.factor(J))
-        return fail(c, Status::material_failure, "singular local Jacobian for the consistent tangent");
-      MatX B = MatX::Zero(J.rows(), 6);
-      B.topRows(6) = Te;
-      st.tangent = lu.solve(B).topRows(6);
-      st.has_tangent = true;
-    }
-    return Outcome::success();
+    if (add < 0) break;
+    active.push_back(add);
   }
+
+  st.sigma = x.head<6>(), st.q = x.segment(6, c.nq), st.active = active;
+  if (consistent) {
+    // sigma(de) from R(x(de); de) = 0: dx/dde = -J^-1 dR/dde, dR/dde = [-T_e; 0; 0].
+    VecX R;
+    MatX J;
+    Mat6 Te;
+    sys.evaluate(x, active, R, &J, &Te);
+    ScaledLU lu;
+    if (!lu.factor(J))
+      return fail(c, Status::material_failure, "singular local Jacobian for the consistent tangent");
+    MatX B = MatX::Zero(J.rows(), 6);
+    B.topRows(6) = Te;
+    st.tangent = lu.solve(B).topRows(6);
+    st.has_tangent = true;
+  }
+  return Outcome::success();
 }
 
 } // namespace

@@ -29,6 +29,7 @@ std::unique_ptr<stratum::Material> create(const Params& p) {
   c.R = p.real("R");
   c.T = p.real("T_CUT");
   c.Z = p.real("Z");
+  c.free_retraction = p.text("retraction") == "free";
   if (const auto problem = cs::check(c)) throw Error(p.where(problem->parameter), prefix + problem->message);
   // F_CUT is not independent: it is the J1 (tension) at which the envelope reaches sqrt(J2) = 0.
   if (p.where("F_CUT").known()) {
@@ -69,6 +70,11 @@ STRATUM_PLUGIN(registry) {
   s.real("T_CUT", "kPa", "tension cut-off on J1: hydrostatic tension J1 >= -T_CUT").at_least(0.0);
   s.real("Z", "kPa", "initial cap position X0 in J1 (a stress outside the cap widens it at the start)")
       .defaults_to(0.0);
+  s.text("retraction", {"free", "above_initial"},
+         "free: the hardening law (2.148) extended to dilatant eps_v^p < 0, the cap retracts without "
+         "bound (tension and envelope flow can empty the elastic domain); above_initial: the cap tip never "
+         "moves below its initial position X0 = Z")
+      .defaults_to(std::string("free"));
   s.real("F_CUT", "kPa",
          "optional check value: J1 tension where the envelope vanishes, ln(A/C)/B (the thesis prints it)")
       .greater_than(0.0)

@@ -65,6 +65,10 @@ struct Constants {
   double R = 2.5;     ///< cap ellipse axis ratio (J1 axis / sqrt(J2) axis)
   double T = 30.0;    ///< tension cut-off: J1 >= -T (kPa)
   double Z = 0.0;     ///< initial cap position X0 in J1 (kPa)
+  /// retraction = "free" (true): (2.148) extended to dilatant eps_v^p < 0, the cap retracts
+  /// without bound; "above_initial" (false): the tip X never moves below X0 = Z (dilation
+  /// below the virgin state is not remembered), so the elastic domain cannot vanish.
+  bool free_retraction = true;
 
   [[nodiscard]] double K() const { return E / (3.0 * (1.0 - 2.0 * nu)); }
   [[nodiscard]] double G() const { return E / (2.0 * (1.0 + nu)); }
@@ -105,9 +109,14 @@ struct Constants {
     }
     return k;
   }
-  [[nodiscard]] double kappa_of_eps(double e) const { return kappa_of_X(X_of_eps(e)); }
+  /// The hardening strain that moves the cap: eps_v^p, or max(eps_v^p, 0) when the cap stops at Z.
+  [[nodiscard]] double moving(double e) const { return free_retraction ? e : std::max(e, 0.0); }
+  [[nodiscard]] double kappa_of_eps(double e) const { return kappa_of_X(X_of_eps(moving(e))); }
   /// d kappa / d eps_v^p.
-  [[nodiscard]] double dkappa_deps(double e, double kappa) const { return 1.0 / (dX(kappa) * D * (W - e)); }
+  [[nodiscard]] double dkappa_deps(double e, double kappa) const {
+    if (!free_retraction && e < 0.0) return 0.0;
+    return 1.0 / (dX(kappa) * D * (W - e));
+  }
 };
 
 struct Problem {
