@@ -510,13 +510,26 @@ public:
     // decisions (recovery or incremental, substep count, E_t or E_ur per substep) frozen.
     std::vector<double> hp(out.history.size());
     const double step = 1e-7;
-    for (int j = 0; j < 6; ++j) {
+    // A plane state (no out-of-plane shear in the stress, the strain or its increment) stays
+    // plane: by the reflection z -> -z of an isotropic law the out-of-plane shears (4, 5) do not
+    // couple with the in-plane components, so only columns 0-3 are differenced (each 3D
+    // perturbation would also need a 3x3 eigensolver). Their diagonal, which the plane-strain
+    // and axisymmetric elements never use, is taken as the in-plane shear stiffness.
+    const auto plane = [](const Vec6& v) { return v[4] == 0.0 && v[5] == 0.0; };
+    const bool plane_state = plane(in.stress_n) && plane(in.strain_n) && plane(in.dstrain);
+    const int columns = plane_state ? 4 : 6;
+    for (int j = 0; j < columns; ++j) {
       Vec6 dp = in.dstrain, dm = in.dstrain;
       dp[j] += step;
       dm[j] -= step;
       const Vec6 sp = evaluate(in, dp, hp, rec, true);
       const Vec6 sm = evaluate(in, dm, hp, rec, true);
       out.tangent.col(j) = (sp - sm) / (2.0 * step);
+    }
+    if (plane_state) {
+      out.tangent.leftCols<4>().bottomRows<2>().setZero();
+      out.tangent.rightCols<2>().setZero();
+      out.tangent(4, 4) = out.tangent(5, 5) = out.tangent(3, 3);
     }
     if (c_.tangent_stabilization > 0.0) {
       // Only the iteration matrix changes (never the stress): keeps it regular where the soil has
