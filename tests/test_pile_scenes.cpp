@@ -168,6 +168,44 @@ TEST_CASE("C1 stiff pile with shaft slip through the staged path: the shaft carr
   CHECK(run.load_settlement.back()[0] > shaft_capacity);
 }
 
+TEST_CASE("reusing the stiffness of linear cells changes no number of a staged run", "[stages]") {
+  // The C1 path (linear soil and pile, a nonlinear interface, cells removed and placed, 10 load
+  // steps with slip): the assembler keeps the linear cells' stiffness from the first assembly of
+  // each stage (reuse_linear_stiffness = true, the default) or recomputes it every time. The
+  // cached matrices are the recomputed ones, so every settlement and load must agree bit for bit
+  // (a wrong cache slot or a cache kept across a stage's activation would change them).
+  StagedPile s;
+  s.r0 = 0.25, s.L = 3.0, s.Es = 20000.0, s.Ep = 30e6;
+  s.near_radius = 2.0, s.near_depth = 4.5, s.domain_radius = 6.0, s.domain_depth = 9.0;
+  s.n_shaft = 6, s.n_near = 4, s.n_far = 3, s.n_below = 3, s.n_deep = 2;
+  s.extra = "[contact_laws.shaft]\nmodel = \"coulomb_elastoplastic\"\nk_s = 1e5\nk_n = 1e6\nc = 15.0\n"
+            "sigma_t = 1000.0\n[[interfaces]]\nname = \"shaft_interface\"\nedges = \"hole\"\ncells = "
+            "\"pile\"\nelement = \"interface_line\"\nlaw = \"shaft\"\ncsv = false\n";
+  s.concrete = "[[stages.actions]]\ntype = \"activate\"\ncells = \"pile\"\nstress = \"hydrostatic\"\ngamma = "
+               "24.0\n[[stages.actions]]\ntype = \"activate\"\ncells = \"shaft_interface\"\nstress = "
+               "\"hydrostatic\"\ngamma = 24.0\n";
+  s.steps = 10;
+  s.loading = "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nsettlement = 0.02\n";
+  const std::string on = staged_pile_scene(s);
+  std::string off = on;
+  const std::string key = "formulation = \"axisymmetric\"\n";
+  off.replace(off.find(key), key.size(), key + "reuse_linear_stiffness = false\n");
+  auto a = scene(on, "reuse_on.toml");
+  auto b = scene(off, "reuse_off.toml");
+  const auto ra = a->run(), rb = b->run();
+  INFO(ra.outcome.message << " / " << rb.outcome.message);
+  REQUIRE(ra.outcome.ok());
+  REQUIRE(rb.outcome.ok());
+  REQUIRE(ra.load_settlement.size() == 11);
+  REQUIRE(rb.load_settlement.size() == ra.load_settlement.size());
+  for (std::size_t i = 0; i < ra.load_settlement.size(); ++i) {
+    CHECK(ra.load_settlement[i][0] == rb.load_settlement[i][0]);
+    CHECK(ra.load_settlement[i][1] == rb.load_settlement[i][1]);
+  }
+  CHECK(ra.load_settlement.back()[0] > 2 * pi * s.r0 * s.L * 15.0); // shaft at tau_max plus the base
+  CHECK((a->model().u - b->model().u).cwiseAbs().maxCoeff() == 0.0);
+}
+
 TEST_CASE("far-boundary springs: the geostatic stage starts them at K0 gamma z and the soil stays put",
           "[stages][contact]") {
   // The far side of the pile mesh on two-node springs (contact2 split off the edge set, outer

@@ -66,7 +66,7 @@ bool Model::symmetric() const {
   return true;
 }
 
-Assembler::Assembler(const Model& model) {
+Assembler::Assembler(const Model& model, bool reuse_linear_stiffness) {
   const int nf = model.dofs.free_count;
   const auto nnodes = model.mesh.nodes.size();
   // Node adjacency through cells of every domain, then the DOF pattern from it.
@@ -120,6 +120,8 @@ Assembler::Assembler(const Model& model) {
   // Scatter indices: for each cell, (2n)^2 positions into the value array (column-major local order).
   scatter_.resize(model.domains.size());
   scatter_start_.resize(model.domains.size());
+  stiffness_.resize(model.domains.size());
+  filled_.resize(model.domains.size());
   std::vector<int> ldof;
   for (std::size_t di = 0; di < model.domains.size(); ++di) {
     const auto& dm = model.domains[di];
@@ -131,6 +133,10 @@ Assembler::Assembler(const Model& model) {
       st[ci + 1] = st[ci] + static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
     }
     sc.assign(st.back(), -1);
+    if (reuse_linear_stiffness && dm.element->constant_stiffness(dm.law)) {
+      stiffness_[di].assign(st.back(), 0.0);
+      filled_[di].assign(dm.cells.size(), 0);
+    }
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
       if (!model.is_active(dm.cells[ci])) continue;
       ldof.clear();
@@ -191,17 +197,23 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
           une[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = model.u[g];
         }
       ElementData data{cell, model.mesh.cells[cell].shape(), &x};
+      const bool cached = k && !filled_[di].empty() && filled_[di][ci];
       Outcome o =
-          dm.element->compute(data, ue, une, dm.law, dm.states, dm.first_point[ci], k != nullptr, res);
+          dm.element->compute(data, ue, une, dm.law, dm.states, dm.first_point[ci], k && !cached, res);
       if (!o.ok()) return o;
+      const auto n2 = static_cast<std::size_t>(nd) * static_cast<std::size_t>(nd);
+      if (k && !cached && !filled_[di].empty()) {
+        std::copy(res.stiffness.data(), res.stiffness.data() + n2, stiffness_[di].data() + st[ci]);
+        filled_[di][ci] = 1;
+      }
       for (std::size_t i = 0; i < nodes.size(); ++i)
         for (int c = 0; c < DofMap::per_node; ++c)
           f_int[static_cast<Eigen::Index>(nodes[i]) * DofMap::per_node + c] +=
               res.force[static_cast<Eigen::Index>(i) * DofMap::per_node + c];
       if (k) {
         const int* pos = sc.data() + st[ci];
-        const double* ke = res.stiffness.data(); // column-major, matches the scatter order
-        const auto n2 = static_cast<std::size_t>(nd) * static_cast<std::size_t>(nd);
+        // column-major, matches the scatter order
+        const double* ke = cached ? stiffness_[di].data() + st[ci] : res.stiffness.data();
         for (std::size_t e = 0; e < n2; ++e)
           if (pos[e] >= 0) values[pos[e]] += ke[e];
       }

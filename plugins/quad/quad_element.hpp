@@ -193,6 +193,11 @@ public:
     });
   }
 
+  /// Small-strain element: with a linear material its stiffness is the cell's constant B^T D B.
+  [[nodiscard]] bool constant_stiffness(const Constitutive& law) const override {
+    return law.material != nullptr && law.material->is_linear();
+  }
+
   /// Consistent nodal forces N^T b integrated with the element's rule. Throws
   /// stratum::Error for a cell with a non-positive Jacobian (or radius) at a point.
   void body_force(const ElementData& cell, const Vec2& b, Eigen::VectorXd& f) const override {

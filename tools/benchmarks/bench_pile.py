@@ -22,10 +22,12 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-# Both scenes fail before the 105 kN the plan named (Duncan-Chang at about 74 kN, the cap scene
-# stops at 45.5 kN): the quantity of interest is the settlement at 45 kN, a load both reach with
-# small steps too (a 200-step Duncan-Chang run to 60 kN fails just short of it).
-QOI = {"hypoelastic": 45.0, "cap": 45.0}
+# Quantity of interest: the head settlement at 105 kN (the plan's load) for the cap scene, which
+# reaches it; the Duncan-Chang scene fails at about 74 kN (docs/validation/loess_pile.md), so its
+# settlement is taken at 45 kN, a load it reaches with any step count (a 200-step run to 60 kN
+# fails just short of it).
+QOI = {"hypoelastic": 45.0, "cap": 105.0}
+TIMEOUT = 600.0  # s per stratum run; --quick: 240
 
 
 def scene_text(name, steps, force, solver="newton", update=None, rtol=None, vtk=True):
@@ -45,16 +47,21 @@ def scene_text(name, steps, force, solver="newton", update=None, rtol=None, vtk=
     return t
 
 
-def run(exe, text, repeat=1):
+def run(exe, text, repeat=1, timeout=None):
     """Runs a scene; returns (ok, settlement curve, median wall s, profile line, message)."""
     walls, out = [], ""
+    timeout = timeout or TIMEOUT
     with tempfile.TemporaryDirectory() as d:
         p = Path(d) / "pile.toml"
         p.write_text(text)
         for _ in range(repeat):
             t0 = time.perf_counter()
-            r = subprocess.run([exe, "run", str(p), "--out", str(Path(d) / "out")], capture_output=True,
-                               text=True, env=dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1"))
+            try:
+                r = subprocess.run([exe, "run", str(p), "--out", str(Path(d) / "out")], capture_output=True,
+                                   text=True, timeout=timeout,
+                                   env=dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1"))
+            except subprocess.TimeoutExpired:
+                return False, [], time.perf_counter() - t0, "", f"timeout after {timeout:.0f} s"
             walls.append(time.perf_counter() - t0)
             out = r.stdout
             if r.returncode != 0:
@@ -92,6 +99,9 @@ def main():
     ap.add_argument("--quick", action="store_true", help="fewer variants, reference of 200 steps")
     ap.add_argument("--no-write", action="store_true")
     a = ap.parse_args()
+    global TIMEOUT
+    if a.quick:
+        TIMEOUT = 240.0
     if not Path(a.stratum).exists():
         sys.exit(f"bench_pile: {a.stratum} not found: build first (tools/bench)")
     md = []
@@ -114,9 +124,9 @@ def main():
         md.append(f"VTK output is off in these runs (its cost is in the profile below). "
                   f"Reference: {ref_steps} equal load steps to {Q:g} kN with force_rtol = 1e-7: "
                   f"**w = {w_ref:.5f} mm** ({ref_wall:.1f} s). Each row loads the head to {Q:g} kN in the "
-                  "given number of equal steps; *error* = |w - w_ref| / w_ref. Both scenes fail before "
-                  "105 kN (the Class-A record), so the quantity of interest is taken at a load both "
-                  "reach.\n")
+                  "given number of equal steps; *error* = |w - w_ref| / w_ref. The cap scene is measured at "
+                  "105 kN, the Duncan-Chang scene at 45 kN: it fails at about 74 kN (its Class-A record), "
+                  "before 105 kN.\n")
         steps_list = [2, 6, 24] if a.quick else [2, 4, 8, 24, 48]
         variants = []
         updates = ["explicit", "incremental"] if name == "hypoelastic" else [None]
@@ -157,7 +167,7 @@ def main():
               'type = "load"\ncells = "foot"\nsettlement = 0.06\n')
         return t
 
-    fsteps = [5, 10, 30] if a.quick else [5, 10, 30, 100]
+    fsteps = [10, 30] if a.quick else [5, 10, 30, 100]
     ok, ref, ref_wall, _, msg = run(a.stratum, footing(200 if a.quick else 1000, rtol="1e-10"))
     P_ref = ref[-1][0] if ok and ref else float("nan")
     print(f"footing: reference P = {P_ref:.5f} kN/m, {ref_wall:.1f} s {msg}", flush=True)
@@ -167,9 +177,12 @@ def main():
               f"footing) at the end. Reference: {200 if a.quick else 1000} steps, closest_point, force_rtol "
               f"1e-10: **P = {P_ref:.4f} kN/m** ({ref_wall:.1f} s; (2 + pi) k B/2 = 514.16).\n")
     rows = []
-    fvariants = [("newton", i, r, n) for i in ["closest_point", "cutting_plane", "modified_euler", "midpoint"]
+    integrators = ["closest_point", "cutting_plane"] if a.quick else ["closest_point", "cutting_plane",
+                                                                      "modified_euler", "midpoint"]
+    fvariants = [("newton", i, r, n) for i in integrators
                  for r in (["1e-8"] if a.quick else ["1e-4", "1e-8"]) for n in fsteps]
-    fvariants += [(sv, "closest_point", "1e-8", n) for sv in ["modified_newton", "kinsol"] for n in fsteps]
+    fvariants += [(sv, "closest_point", "1e-8", n) for sv in ["modified_newton", "kinsol"]
+                  for n in (fsteps[-1:] if a.quick else fsteps)]
     for solver, integ, rtol, n in fvariants:
         ok, curve, wall, prof, msg = run(a.stratum, footing(n, solver, integ, rtol), a.repeat)
         P = curve[-1][0] if ok and curve and abs(curve[-1][1] - 60.0) < 1e-6 else float("nan")
@@ -192,6 +205,9 @@ def main():
                         ("no VTK output", scene_text("hypoelastic", 24, 60.0, vtk=False)),
                         ("linear_solver = umfpack (before the auto rule)",
                          base.replace('linear_solver = "auto"', 'linear_solver = "umfpack"')),
+                        ("linear cells' stiffness at every assembly (reuse_linear_stiffness = false)",
+                         base.replace('linear_solver = "auto"',
+                                      'linear_solver = "auto"\nreuse_linear_stiffness = false')),
                         ("modified_newton (factorization reused in a step)",
                          scene_text("hypoelastic", 24, 60.0, solver="modified_newton"))]:
         ok, curve, wall, prof, msg = run(a.stratum, text, a.repeat)

@@ -217,6 +217,10 @@ int main(int argc, char** argv) {
     for (const auto& r : runs) {
       if (r.outcome.kind == st::Kind::converged) continue;
       std::string msg = r.outcome.message;
+      // the child's scene file lives in this process's temporary folder: name it by the row instead
+      const std::string tmp = (work / "run" / "scene.toml").string();
+      for (std::size_t at; (at = msg.find(tmp)) != std::string::npos;)
+        msg.replace(at, tmp.size(), "scene.toml");
       for (auto& ch : msg)
         if (ch == '|') ch = '/';
       s << "| " << r.scene << " | " << (r.integrator.empty() ? "-" : r.integrator) << " | " << r.solver

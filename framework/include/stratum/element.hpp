@@ -76,6 +76,11 @@ public:
 
   /// Weight of each integration point in a cell average (for cell output), sums to 1.
   virtual void point_weights(const ElementData& cell, Eigen::VectorXd& w) const = 0;
+
+  /// True when, with this law, the tangent of compute() depends on the cell's geometry only
+  /// (small strain and a linear material): the assembler then computes it once per stage and
+  /// asks compute() for the force and the point states alone. The default (false) is always safe.
+  [[nodiscard]] virtual bool constant_stiffness(const Constitutive& /*law*/) const { return false; }
 };
 
 } // namespace stratum

@@ -73,7 +73,9 @@ struct Model {
 /// pattern and the per-cell scatter indices are built once per model topology.
 class Assembler {
 public:
-  explicit Assembler(const Model& model);
+  /// reuse_linear_stiffness: cells whose element reports constant_stiffness keep their stiffness
+  /// from the first assembly with a tangent for the assembler's lifetime (one stage).
+  explicit Assembler(const Model& model, bool reuse_linear_stiffness = true);
 
   /// The matrix with the fixed pattern (values zero) to be filled by assemble().
   [[nodiscard]] SparseMatrix make_matrix() const { return pattern_; }
@@ -89,6 +91,12 @@ private:
   std::vector<std::vector<int>>
       scatter_; ///< per domain: concatenated per-cell (2n)^2 value indices, -1 = skip
   std::vector<std::vector<std::size_t>> scatter_start_;
+  /// Per domain whose element reports constant_stiffness: the cells' stiffness matrices
+  /// (same layout as scatter_), computed at the first assembly with a tangent and reused for
+  /// the rest of the stage; filled_ says which cells have one. A cache of values that are
+  /// functions of the (fixed) geometry and material, owned by this stage's assembler.
+  mutable std::vector<std::vector<double>> stiffness_;
+  mutable std::vector<std::vector<char>> filled_;
 };
 
 /// Adds consistent nodal forces of a normal pressure p(x) (kPa, positive = pushing into the
