@@ -85,11 +85,19 @@ std::vector<Block> matrix(const fs::path& src, bool quick, bool full) {
   // closest_point at 1, 5, 20 increments, the other solvers and integrators at 5.
   add(strip, newton, {"closest_point"}, pick(few));
   add(strip, sv(others), {"closest_point"}, pick({5}));
-  add(strip, newton, {"forward_euler", "modified_euler", "trapezoidal", "midpoint", "cutting_plane"},
+  // The explicit and generalized-midpoint integrators have no consistent tangent: Newton then
+  // converges linearly on the footing and a run takes minutes, so --quick leaves them (and the
+  // two slowest variants) to the default matrix.
+  if (!quick) {
+    add(strip, newton, {"forward_euler", "modified_euler", "trapezoidal", "midpoint", "cutting_plane"},
+        pick({5}));
+    add(st::variant(strip, "nu=0.499", "[materials.clay]", "nu", "0.499"), sv(newton), {"closest_point"},
+        pick({5}));
+  }
+  add(st::strip_footing_mohr_coulomb(strip), sv(newton),
+      quick ? std::vector<std::string>{"closest_point"}
+            : std::vector<std::string>{"forward_euler", "closest_point"},
       pick({5}));
-  add(st::variant(strip, "nu=0.499", "[materials.clay]", "nu", "0.499"), sv(newton), {"closest_point"},
-      pick({5}));
-  add(st::strip_footing_mohr_coulomb(strip), sv(newton), {"forward_euler", "closest_point"}, pick({5}));
   // The loess pile scenes (staged; minutes of wall time a run here): Newton, the scenes' solver,
   // with their own update/integration at 1 and 5 loading steps; the extreme variants at 5.
   auto hypo = st::input_scene(src, "inputs/loess_pile/hypoelastic.toml");
@@ -119,7 +127,7 @@ std::vector<Block> matrix(const fs::path& src, bool quick, bool full) {
 
 int main(int argc, char** argv) {
   bool write = true, quick = false, full = false;
-  double timeout = 60;
+  double timeout = 300; // s; a run of the footing with a non-consistent tangent takes minutes
   std::string filter;
   fs::path docs = fs::path(STRATUM_SOURCE_DIR) / "docs" / "benchmarks.md";
   fs::path keep;
