@@ -65,7 +65,8 @@ def run(exe, text, repeat=1, timeout=None):
             walls.append(time.perf_counter() - t0)
             out = r.stdout
             if r.returncode != 0:
-                return False, [], statistics.median(walls), "", (r.stderr.strip() or out)[-200:]
+                msg = (r.stderr.strip() or out).replace(str(p), "scene.toml").splitlines()
+                return False, [], statistics.median(walls), "", (msg[-1] if msg else "")[:220]
         curve = []
         csv = Path(d) / "out" / "curves" / "load_settlement.csv"
         if csv.exists():
@@ -214,13 +215,12 @@ def main():
         rows.append([label, f"{wall:.2f}", prof.replace("time: ", "").replace("|", "/") or msg])
         print(rows[-1], flush=True)
     md.append(table(["variant", "wall (s)", "split printed by stratum run"], rows) + "\n")
-    lib = subprocess.run([a.stratum, "check", str(ROOT / "inputs" / "loess_pile" / "hypoelastic.toml")],
+    lib = subprocess.run([a.stratum, "check", "inputs/loess_pile/hypoelastic.toml"], cwd=ROOT,
                          capture_output=True, text=True).stdout.strip()
-    allp = subprocess.run([a.stratum, "plugins"], capture_output=True, text=True).stdout
-    md.append(f"Plugins opened on demand: `stratum check` of the scene reports *{lib}*; "
-              f"the catalogue lists {len([l for l in allp.splitlines() if l.strip()])} lines of plugins, "
-              "the rest are never opened. The symbolic factorization is done once per stage (the "
-              "`analyze` count above equals the number of stages).\n")
+    libraries = len(list((Path(a.stratum).resolve().parents[1] / "plugins").glob("*.so")))
+    md.append(f"Plugins opened on demand: `stratum check` of the scene reports *{lib}*; the build has "
+              f"{libraries} plugin libraries, the rest are never opened. The symbolic factorization is done "
+              "once per stage (the `analyze` count above equals the number of stages).\n")
 
     text = "\n".join(md)
     if a.no_write:
