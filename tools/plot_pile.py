@@ -42,7 +42,10 @@ def main(folder):
             continue
         data = read(path)
         fig, ax = plt.subplots(figsize=(5, 4))
-        for load in sorted({r["load_kN"] for r in data}):
+        loads = sorted({r["load_kN"] for r in data})
+        # the field's 15 kN increments and the last level: a line per converged step would bury them
+        shown = [p for p in loads if p > 0 and abs(p / 15.0 - round(p / 15.0)) < 1e-6] + loads[-1:]
+        for load in sorted(set(shown)) if len(set(shown)) >= 2 else loads:
             pts = [r for r in data if r["load_kN"] == load]
             ax.plot([r[key] for r in pts], [r["depth_m"] for r in pts], label=f"{load:g} kN")
         ax.set_xlabel(label)
