@@ -497,6 +497,50 @@ TEST_CASE("duncan_chang: finite-difference check of the tangent", "[duncan_chang
   CHECK(err < 1e-5);
 }
 
+TEST_CASE("duncan_chang: plane states: the out-of-plane shears do not couple (the 4-column tangent)",
+          "[duncan_chang]") {
+  // For a plane state (no out-of-plane shear in stress, strain or increment) the update
+  // differences only the four in-plane columns and fills the out-of-plane block by the
+  // reflection symmetry z -> -z of an isotropic law. Check that claim against central
+  // differences of the full update in all six directions (perturbing components 4 and 5 makes
+  // the state three-dimensional): the in-plane block agrees, and the differenced couplings
+  // between in-plane and out-of-plane components vanish.
+  const dc::Set a = loess_a();
+  const double q = 0.5 * q_f(a, 100.0);
+  Vec6 s = triaxial_stress(100.0, q);
+  s[2] -= 0.2 * q; // sigma_2 != sigma_3: away from the kink of the minor principal stress
+  s[3] = 0.1 * q;  // in-plane shear
+  const Vec6 de = (Vec6() << 2e-4, -7.5e-4, 1.5e-4, 1e-4, 0, 0).finished();
+  for (const auto u : {dc::Update::incremental, dc::Update::explicit_step, dc::Update::recovery}) {
+    INFO("update " << static_cast<int>(u));
+    const dc::DuncanChang m(constants(u));
+    Vec6 s0 = s, e0 = Vec6::Zero();
+    if (u == dc::Update::recovery) { // a strain state the recovery maps to a stress
+      const double e1 = 0.005, lat = 0.18 * e1 / (1.0 - 20.0 * e1);
+      e0 << lat, -e1, 0.8 * lat, 2e-4, 0, 0;
+      REQUIRE(m.recover(e0, s0));
+    }
+    const std::vector<double> h = hist(m.point(s0).S, m.point(s0).q);
+    const Result base = update(m, s0, e0, h, de);
+    REQUIRE(base.o.ok());
+    Mat6 fd;
+    const double step = 1e-6;
+    for (int j = 0; j < 6; ++j) {
+      Vec6 dp = de, dm = de;
+      dp[j] += step;
+      dm[j] -= step;
+      fd.col(j) = (update(m, s0, e0, h, dp).stress - update(m, s0, e0, h, dm).stress) / (2.0 * step);
+    }
+    const double scale = fd.cwiseAbs().maxCoeff();
+    CHECK((base.tangent.topLeftCorner<4, 4>() - fd.topLeftCorner<4, 4>()).cwiseAbs().maxCoeff() <
+          1e-5 * scale);
+    CHECK(fd.topRightCorner<4, 2>().cwiseAbs().maxCoeff() < 1e-6 * scale);
+    CHECK(fd.bottomLeftCorner<2, 4>().cwiseAbs().maxCoeff() < 1e-6 * scale);
+    CHECK(base.tangent.topRightCorner<4, 2>().cwiseAbs().maxCoeff() == 0.0);
+    CHECK(base.tangent.bottomLeftCorner<2, 4>().cwiseAbs().maxCoeff() == 0.0);
+  }
+}
+
 TEST_CASE("duncan_chang: the explicit update is one forward-Euler step of the hyperbola", "[duncan_chang]") {
   // update = "explicit": sigma = sigma_n + D(sigma_n) d eps on the branch of the E_ur trial; its
   // tangent is D(sigma_n) itself, so global Newton sees a piecewise-linear law.
