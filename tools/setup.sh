@@ -26,7 +26,8 @@ stratum_install_packages() {
 
 stratum_build() {
   cmake -S "$STRATUM_ROOT" -B "$STRATUM_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$STRATUM_BUILD" -j "$(nproc)"
+  # getconf, not nproc: nproc honours the OMP_NUM_THREADS=1 exported below and built on one core.
+  cmake --build "$STRATUM_BUILD" -j "$(getconf _NPROCESSORS_ONLN)"
 }
 
 # One BLAS thread: on two shared cores two threads were slower (docs/performance.md).
