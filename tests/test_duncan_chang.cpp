@@ -578,6 +578,86 @@ TEST_CASE("duncan_chang: the explicit update is one forward-Euler step of the hy
   CHECK(e400 < 1e-2);
 }
 
+TEST_CASE("duncan_chang: the explicit update's closed-form tangent in every regime", "[duncan_chang]") {
+  // update = "explicit" returns alpha D_ur + (1 - alpha) D_t of the start stress instead of
+  // differencing the update. Against central differences of the whole update (all six
+  // directions, branch decided afresh at every perturbed increment) where the branch is one:
+  // loading (3D and plane), unloading, beyond failure (residual modulus); against the replayed
+  // differences (branch split frozen, as Newton's tangent has always been) where an increment
+  // crosses the historical maximum; and where the tension cut-off acts the update falls back to
+  // differences, which must include the cut-off's derivative.
+  const dc::Set a = loess_a();
+  const dc::DuncanChang m(constants(dc::Update::explicit_step));
+  const double q = 0.5 * q_f(a, 100.0);
+  Vec6 s = triaxial_stress(100.0, q);
+  s[2] -= 0.2 * q; // sigma_2 != sigma_3: away from the kink of the minor principal stress
+  const Vec6 de3 = (Vec6() << 2e-4, -7.5e-4, 1.5e-4, 1e-4, -5e-5, 3e-5).finished();
+  const Vec6 de2 = (Vec6() << 2e-4, -7.5e-4, 1.5e-4, 1e-4, 0, 0).finished();
+  const std::vector<double> h = hist(m.point(s).S, m.point(s).q);
+  auto closed = [&](const Vec6& s0, double alpha) { return m.explicit_stiffness(m.point(s0), alpha); };
+  // Loading, a 3D and a plane increment: the tangent is D_t of the start.
+  for (const Vec6& de : {de3, de2}) {
+    const Result r = update(m, s, Vec6::Zero(), h, de);
+    REQUIRE(r.o.ok());
+    const Mat6 D = closed(s, 0.0);
+    CHECK((r.tangent - D).cwiseAbs().maxCoeff() == 0.0);
+    CHECK(tangent_error(m, s, Vec6::Zero(), h, de) < 1e-6);
+  }
+  // Unloading: D_ur.
+  {
+    const Result r = update(m, s, Vec6::Zero(), h, Vec6(-de3));
+    REQUIRE(r.o.ok());
+    CHECK((r.tangent - closed(s, 1.0)).cwiseAbs().maxCoeff() == 0.0);
+    CHECK(tangent_error(m, s, Vec6::Zero(), h, Vec6(-de3)) < 1e-6);
+  }
+  // Beyond failure (S = 1.05): E_t = 1e-3 E_i with nu_t = 0.49.
+  {
+    Vec6 sf = triaxial_stress(100.0, 1.05 * q_f(a, 100.0));
+    sf[2] -= 0.01 * q;
+    const std::vector<double> hf = hist(m.point(sf).S, m.point(sf).q);
+    const Result r = update(m, sf, Vec6::Zero(), hf, 0.01 * de3);
+    REQUIRE(r.o.ok());
+    const dc::Moduli mo = m.moduli(m.point(sf), false);
+    CHECK(mo.E == Approx(1e-3 * m.point(sf).E_i).epsilon(1e-12));
+    CHECK((r.tangent - dc::stiffness_kg(mo.K, mo.G)).cwiseAbs().maxCoeff() == 0.0);
+    CHECK(tangent_error(m, sf, Vec6::Zero(), hf, 0.01 * de3) < 1e-6);
+  }
+  // Crossing: the historical maximum just above the start, so the E_ur trial crosses it within
+  // the increment (0 < alpha < 1). The closed form equals the frozen-split differences.
+  {
+    const std::vector<double> hc = hist(m.point(s).S * 1.002, m.point(s).q * 1.002);
+    const Result r = update(m, s, Vec6::Zero(), hc, de2);
+    REQUIRE(r.o.ok());
+    Vec6 stress;
+    Mat6 tangent;
+    std::vector<double> hh(hc.size());
+    stratum::MaterialOutput fd_out{stress, hh, tangent};
+    const stratum::MaterialInput in{s, Vec6::Zero(), hc, de2, {0, 0}};
+    dc::DuncanChang::Record rec;
+    fd_out.stress = m.evaluate(in, de2, fd_out.history, rec, false);
+    REQUIRE(rec.alpha.size() == 1);
+    CAPTURE(rec.alpha[0]);
+    CHECK(rec.alpha[0] > 0.0);
+    CHECK(rec.alpha[0] < 1.0);
+    m.difference_tangent(in, rec, fd_out);
+    const Mat6 D = closed(s, rec.alpha[0]);
+    CHECK((r.tangent - D).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((tangent - D).cwiseAbs().maxCoeff() < 1e-6 * D.cwiseAbs().maxCoeff());
+  }
+  // Tension cut-off: an axial extension from a low confinement pulls the axial stress past
+  // zero; the update differences, and the differences see the cut-off (the axial row vanishes).
+  {
+    const Vec6 sl = triaxial_stress(20.0, 0.0);
+    const Vec6 ext = (Vec6() << -0.0005, 0.003, -0.0005, 0, 0, 0).finished();
+    const std::vector<double> hl = hist(0.0, 0.0);
+    const Result r = update(m, sl, Vec6::Zero(), hl, ext);
+    REQUIRE(r.o.ok());
+    CHECK(r.stress[1] == Approx(0.0).margin(1e-12));
+    CHECK((r.tangent - closed(sl, 0.0)).cwiseAbs().maxCoeff() > 0.1 * closed(sl, 0.0).cwiseAbs().maxCoeff());
+    CHECK(tangent_error(m, sl, Vec6::Zero(), hl, ext) < 1e-5);
+  }
+}
+
 TEST_CASE("variable_kg: K from E_i, G from E_t on a drained triaxial path", "[variable_kg]") {
   // At constant sigma_3: p = sigma_3 + q/3 with K = E_i/(3(1 - 2 nu)) constant, so eps_v = q/(3K);
   // d eps_s = dq/(3 G_t), G_t = E_i (1 - R_f q/q_f)^2 / (2(1 + nu)), so

@@ -293,8 +293,24 @@ public:
     bool recovery = false;
     int substeps = 0;
     double too_large = 0.0;    ///< the strain increment when it needs more than max_substeps (else 0)
+    bool cut = false;          ///< the tension cut-off changed the stress in some substep
     std::vector<double> alpha; ///< per substep: the fraction integrated on the E_ur branch
   };
+
+  /// The explicit update's stiffness for a branch split alpha (the fraction on the E_ur branch):
+  /// alpha D_ur + (1 - alpha) D_t, both at the step's start stress (point p0).
+  [[nodiscard]] Mat6 explicit_stiffness(const Point& p0, double alpha) const {
+    Mat6 D = Mat6::Zero();
+    if (alpha > 0.0) {
+      const Moduli mo = moduli(p0, true);
+      D += alpha * stiffness_kg(mo.K, mo.G);
+    }
+    if (alpha < 1.0) {
+      const Moduli mo = moduli(p0, false);
+      D += (1.0 - alpha) * stiffness_kg(mo.K, mo.G);
+    }
+    return D;
+  }
 
   /// One Heun step (explicit trapezoidal rule) of the hypoelastic law on one branch.
   [[nodiscard]] Vec6 heun(const Vec6& s, const Vec6& de, bool unloading) const {
@@ -312,6 +328,7 @@ public:
                                  bool replay) const {
     if (!replay) {
       rec.recovery = false;
+      rec.cut = false;
       const double big = de.cwiseAbs().maxCoeff();
       if (c_.update != Update::explicit_step && !(big <= c_.max_substep_strain * c_.max_substeps)) {
         // Thousands of substeps per point and evaluation would stall the run for minutes (a
@@ -358,7 +375,11 @@ public:
         if (alpha > 0.0) s = heun(s, alpha * dd, true);
         if (alpha < 1.0) s = heun(s, (1.0 - alpha) * dd, false);
       }
-      if (c_.tension_cutoff) s = cut_tension(s);
+      if (c_.tension_cutoff) {
+        const Vec6 cut = cut_tension(s);
+        if (!replay && cut != s) rec.cut = true;
+        s = cut;
+      }
       const Point pe = point(s);
       h[0] = std::max(h[0], pe.S);
       h[1] = std::max(h[1], pe.q);
@@ -506,31 +527,13 @@ public:
         return Outcome::failure(Status::non_finite, "duncan_chang: the stress is not finite" + where());
       return Outcome::success();
     }
-    // The tangent of what the update did: central differences of the update with the branch
-    // decisions (recovery or incremental, substep count, E_t or E_ur per substep) frozen.
-    std::vector<double> hp(out.history.size());
-    const double step = 1e-7;
-    // A plane state (no out-of-plane shear in the stress, the strain or its increment) stays
-    // plane: by the reflection z -> -z of an isotropic law the out-of-plane shears (4, 5) do not
-    // couple with the in-plane components, so only columns 0-3 are differenced (each 3D
-    // perturbation would also need a 3x3 eigensolver). Their diagonal, which the plane-strain
-    // and axisymmetric elements never use, is taken as the in-plane shear stiffness.
-    const auto plane = [](const Vec6& v) { return v[4] == 0.0 && v[5] == 0.0; };
-    const bool plane_state = plane(in.stress_n) && plane(in.strain_n) && plane(in.dstrain);
-    const int columns = plane_state ? 4 : 6;
-    for (int j = 0; j < columns; ++j) {
-      Vec6 dp = in.dstrain, dm = in.dstrain;
-      dp[j] += step;
-      dm[j] -= step;
-      const Vec6 sp = evaluate(in, dp, hp, rec, true);
-      const Vec6 sm = evaluate(in, dm, hp, rec, true);
-      out.tangent.col(j) = (sp - sm) / (2.0 * step);
-    }
-    if (plane_state) {
-      out.tangent.leftCols<4>().bottomRows<2>().setZero();
-      out.tangent.rightCols<2>().setZero();
-      out.tangent(4, 4) = out.tangent(5, 5) = out.tangent(3, 3);
-    }
+    if (c_.update == Update::explicit_step && !rec.cut) {
+      // The explicit update is linear in the increment for its branch split (moduli of the
+      // step's start), so its tangent is that stiffness exactly: no differences needed. Where
+      // the tension cut-off acted, the differences below include the cut-off's derivative.
+      out.tangent = explicit_stiffness(point(in.stress_n), rec.alpha.front());
+    } else
+      difference_tangent(in, rec, out);
     if (c_.tangent_stabilization > 0.0) {
       // Only the iteration matrix changes (never the stress): keeps it regular where the soil has
       // failed or its tension is cut off.
@@ -546,6 +549,36 @@ public:
       return Outcome::failure(Status::non_finite,
                               "duncan_chang: the stress or tangent is not finite" + where());
     return Outcome::success();
+  }
+
+  /// The tangent of what the update did: central differences of the update with the branch
+  /// decisions (recovery or incremental, substep count, E_t or E_ur per substep) frozen.
+  void difference_tangent(const MaterialInput& in, Record& rec, MaterialOutput& out) const {
+    std::vector<double> hp(out.history.size());
+    const double step = 1e-7;
+    // A plane state (no out-of-plane shear in the stress, the strain or its increment) stays
+    // plane: by the reflection z -> -z of an isotropic law the out-of-plane shears (4, 5) do not
+    // couple with the in-plane components, so only columns 0-3 are differenced (each 3D
+    // perturbation would also need a 3x3 eigensolver). Their diagonal, which the plane-strain
+    // and axisymmetric elements never use, is taken as the in-plane shear stiffness.
+    const auto plane = [](const Vec6& v) { return v[4] == 0.0 && v[5] == 0.0; };
+    // Not where the tension cut-off acted: it treats the shears of the cut direction (xy, yz)
+    // differently from zx, so those columns are differenced too (rare states).
+    const bool plane_state = !rec.cut && plane(in.stress_n) && plane(in.strain_n) && plane(in.dstrain);
+    const int columns = plane_state ? 4 : 6;
+    for (int j = 0; j < columns; ++j) {
+      Vec6 dp = in.dstrain, dm = in.dstrain;
+      dp[j] += step;
+      dm[j] -= step;
+      const Vec6 sp = evaluate(in, dp, hp, rec, true);
+      const Vec6 sm = evaluate(in, dm, hp, rec, true);
+      out.tangent.col(j) = (sp - sm) / (2.0 * step);
+    }
+    if (plane_state) {
+      out.tangent.leftCols<4>().bottomRows<2>().setZero();
+      out.tangent.rightCols<2>().setZero();
+      out.tangent(4, 4) = out.tangent(5, 5) = out.tangent(3, 3);
+    }
   }
 
 private:
