@@ -206,6 +206,61 @@ TEST_CASE("reusing the stiffness of linear cells changes no number of a staged r
   CHECK((a->model().u - b->model().u).cwiseAbs().maxCoeff() == 0.0);
 }
 
+TEST_CASE("the element loop on several threads changes no number of a staged nonlinear run", "[stages]") {
+  // The C1 path with Duncan-Chang soil (explicit update, so the material and its tangent work at
+  // every point) and a slipping interface: the cells are evaluated by one thread or by three
+  // (more than this machine's cores, so the threads interleave), and their contributions are
+  // summed in cell order either way. Every load, settlement, displacement and point state must
+  // agree bit for bit; a race on a point state or a sum in thread order would show here.
+  StagedPile s;
+  s.r0 = 0.25, s.L = 3.0, s.Ep = 30e6;
+  s.near_radius = 2.0, s.near_depth = 4.5, s.domain_radius = 6.0, s.domain_depth = 9.0;
+  s.n_shaft = 6, s.n_near = 4, s.n_far = 3, s.n_below = 3, s.n_deep = 2;
+  s.extra = "[contact_laws.shaft]\nmodel = \"coulomb_elastoplastic\"\nk_s = 1e5\nk_n = 1e6\nc = 15.0\n"
+            "sigma_t = 1000.0\n[[interfaces]]\nname = \"shaft_interface\"\nedges = \"hole\"\ncells = "
+            "\"pile\"\nelement = \"interface_line\"\nlaw = \"shaft\"\ncsv = false\n";
+  s.concrete = "[[stages.actions]]\ntype = \"activate\"\ncells = \"pile\"\nstress = \"hydrostatic\"\ngamma = "
+               "24.0\n[[stages.actions]]\ntype = \"activate\"\ncells = \"shaft_interface\"\nstress = "
+               "\"hydrostatic\"\ngamma = 24.0\n";
+  s.steps = 6;
+  s.loading = "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nsettlement = 0.01\n";
+  std::string text = staged_pile_scene(s);
+  const auto from = text.find("[materials.soil]\n"), to = text.find("[materials.concrete]\n");
+  REQUIRE(to != std::string::npos);
+  REQUIRE(from < to);
+  text.replace(from, to - from,
+               "[materials.soil]\nmodel = \"duncan_chang\"\nupdate = \"explicit\"\nK = 500.0\nn = 0.82\n"
+               "R_f = 0.8\nphi = 26.0\nc = 10.0\nK_ur = 800.0\nG = 0.18\nF = 0.22\nd = 20.0\n"
+               "tangent_stabilization = 200.0\n");
+  // The loess scene's iteration settings: the explicit update switches branches between
+  // iterations, and Newton meets 1e-5 but not the elastic tests' 1e-9.
+  const std::string tol = "force_rtol = 1e-9\n";
+  REQUIRE(text.find(tol) != std::string::npos);
+  text.replace(text.find(tol), tol.size(),
+               "force_rtol = 1e-5\nmax_iterations = 40\n[solver]\nline_search = 4\n");
+  const std::string key = "formulation = \"axisymmetric\"\n";
+  std::string one = text, three = text;
+  one.replace(one.find(key), key.size(), key + "threads = 1\n");
+  three.replace(three.find(key), key.size(), key + "threads = 3\n");
+  auto a = scene(one, "threads_1.toml");
+  auto b = scene(three, "threads_3.toml");
+  const auto ra = a->run(), rb = b->run();
+  INFO(ra.outcome.message << " / " << rb.outcome.message);
+  REQUIRE(ra.outcome.ok());
+  REQUIRE(rb.outcome.ok());
+  REQUIRE(ra.load_settlement.size() >= 7); // 6 steps and the start, and any cut-back steps
+  REQUIRE(rb.load_settlement.size() == ra.load_settlement.size());
+  for (std::size_t i = 0; i < ra.load_settlement.size(); ++i) {
+    CHECK(ra.load_settlement[i][0] == rb.load_settlement[i][0]);
+    CHECK(ra.load_settlement[i][1] == rb.load_settlement[i][1]);
+  }
+  CHECK(ra.load_settlement.back()[1] == Approx(10.0).margin(1e-9)); // the prescribed 10 mm
+  CHECK((a->model().u - b->model().u).cwiseAbs().maxCoeff() == 0.0);
+  REQUIRE(a->model().domains.size() == b->model().domains.size());
+  for (std::size_t d = 0; d < a->model().domains.size(); ++d)
+    CHECK(a->model().domains[d].states.committed_data() == b->model().domains[d].states.committed_data());
+}
+
 TEST_CASE("far-boundary springs: the geostatic stage starts them at K0 gamma z and the soil stays put",
           "[stages][contact]") {
   // The far side of the pile mesh on two-node springs (contact2 split off the edge set, outer

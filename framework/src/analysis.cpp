@@ -8,6 +8,7 @@
 #include "stratum/step_control.hpp"
 #include "stratum/vtk_output.hpp"
 #include "toml_check.hpp"
+#include "worker_pool.hpp"
 
 #include <algorithm>
 #include <array>
@@ -141,6 +142,12 @@ Schema analysis_schema() {
             "compute the stiffness of cells with a linear material once per stage (false: at every "
             "assembly; the results are the same, for measuring what the reuse saves)")
       .defaults_to(true);
+  s.integer("threads", "-",
+            "threads that evaluate the elements and materials (0 = all of the machine's; the results "
+            "are the same for any count)")
+      .at_least(0)
+      .at_most(256)
+      .defaults_to(0LL);
   s.integer("steps", "-", "number of equal load increments from load factor 0 to 1")
       .at_least(1)
       .defaults_to(1LL);
@@ -288,6 +295,7 @@ struct Analysis::Impl {
   Model model;
   std::string linear_solver = "auto";
   bool reuse_linear_stiffness = true;
+  int threads = 1; ///< element-loop threads, resolved ([analysis] threads, 0 = the machine's)
   StepSettings stepping;
   Convergence convergence;
   bool vtk = true, ip_output = true;
@@ -358,6 +366,7 @@ void Analysis::Impl::build(const toml::table& root) {
       ap.text("formulation") == "axisymmetric" ? Formulation::axisymmetric : Formulation::plane_strain;
   linear_solver = ap.text("linear_solver");
   reuse_linear_stiffness = ap.flag("reuse_linear_stiffness");
+  threads = resolve_threads(ap.integer("threads"));
   stepping.steps = static_cast<int>(ap.integer("steps"));
   stepping.max_cutbacks = static_cast<int>(ap.integer("max_cutbacks"));
   stepping.increments = ap.real_list("increments");
@@ -1163,7 +1172,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
 
   // ---- the stage's problem: equilibrium at its start, the target load at its end
   m.rebuild_dofs();
-  const Assembler assembler(m, reuse_linear_stiffness);
+  const Assembler assembler(m, reuse_linear_stiffness, threads);
   auto ls = std::make_unique<TimedLinearSolver>(
       make_linear_solver(linear_solver, m.symmetric(), m.dofs.free_count), summary.times);
   {

@@ -1,5 +1,7 @@
 #include "stratum/model.hpp"
 
+#include "worker_pool.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -66,7 +68,7 @@ bool Model::symmetric() const {
   return true;
 }
 
-Assembler::Assembler(const Model& model, bool reuse_linear_stiffness) {
+Assembler::Assembler(const Model& model, bool reuse_linear_stiffness, int threads) {
   const int nf = model.dofs.free_count;
   const auto nnodes = model.mesh.nodes.size();
   // Node adjacency through cells of every domain, then the DOF pattern from it.
@@ -161,7 +163,15 @@ Assembler::Assembler(const Model& model, bool reuse_linear_stiffness) {
       }
     }
   }
+  for (std::size_t di = 0; di < model.domains.size(); ++di)
+    for (std::size_t ci = 0; ci < model.domains[di].cells.size(); ++ci)
+      if (model.is_active(model.domains[di].cells[ci])) tasks_.emplace_back(di, ci);
+  threads = std::clamp(threads, 1, std::max(1, static_cast<int>(tasks_.size() / 16)));
+  if (threads > 1) pool_ = std::make_unique<WorkerPool>(threads);
+  scratch_.resize(static_cast<std::size_t>(threads));
 }
+
+Assembler::~Assembler() = default;
 
 Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::VectorXd& f_int,
                             SparseMatrix* k) const {
@@ -171,39 +181,62 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
     values = k->valuePtr();
     std::fill(values, values + k->nonZeros(), 0.0);
   }
-  std::vector<int> nodes;
-  Eigen::MatrixX2d x;
-  Eigen::VectorXd ue, une;
-  ElementResult res;
-  for (std::size_t di = 0; di < model.domains.size(); ++di) {
-    auto& dm = model.domains[di];
-    const auto& sc = scatter_[di];
-    const auto& st = scatter_start_[di];
-    for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
+  // Inactive cells keep their committed state through the commit swap.
+  for (auto& dm : model.domains)
+    for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)
+      if (!model.is_active(dm.cells[ci])) dm.states.hold(dm.first_point[ci], dm.first_point[ci + 1]);
+
+  // Cells are evaluated in chunks, in parallel when there is a pool (each cell writes only its
+  // own point states and result slot); each chunk is then summed by this thread in cell order,
+  // so the sums, and every number downstream, do not depend on the thread count.
+  const std::size_t chunk = pool_ ? std::min<std::size_t>(tasks_.size(), 256) : 1;
+  if (results_.size() < chunk) {
+    results_.resize(chunk);
+    outcomes_.resize(chunk);
+  }
+  auto evaluate = [&](std::size_t first, std::size_t begin, std::size_t end, int worker) {
+    Scratch& sc = scratch_[static_cast<std::size_t>(worker)];
+    for (std::size_t t = begin; t < end; ++t) {
+      const auto [di, ci] = tasks_[first + t];
+      auto& dm = model.domains[di];
       const int cell = dm.cells[ci];
-      if (!model.is_active(cell)) {
-        // Inactive cells keep their committed state through the commit swap.
-        dm.states.hold(dm.first_point[ci], dm.first_point[ci + 1]);
-        continue;
-      }
-      model.cell_nodes(cell, nodes, x);
-      const auto nd = static_cast<Eigen::Index>(nodes.size() * DofMap::per_node);
-      ue.resize(nd);
-      une.resize(nd);
-      for (std::size_t i = 0; i < nodes.size(); ++i)
+      model.cell_nodes(cell, sc.nodes, sc.x);
+      const auto nd = static_cast<Eigen::Index>(sc.nodes.size() * DofMap::per_node);
+      sc.ue.resize(nd);
+      sc.une.resize(nd);
+      for (std::size_t i = 0; i < sc.nodes.size(); ++i)
         for (int c = 0; c < DofMap::per_node; ++c) {
-          const auto g = static_cast<Eigen::Index>(nodes[i]) * DofMap::per_node + c;
-          ue[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = u[g];
-          une[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = model.u[g];
+          const auto g = static_cast<Eigen::Index>(sc.nodes[i]) * DofMap::per_node + c;
+          sc.ue[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = u[g];
+          sc.une[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = model.u[g];
         }
-      ElementData data{cell, model.mesh.cells[cell].shape(), &x};
+      const ElementData data{cell, model.mesh.cells[cell].shape(), &sc.x};
       const bool cached = k && !filled_[di].empty() && filled_[di][ci];
-      Outcome o =
-          dm.element->compute(data, ue, une, dm.law, dm.states, dm.first_point[ci], k && !cached, res);
-      if (!o.ok()) return o;
-      const auto n2 = static_cast<std::size_t>(nd) * static_cast<std::size_t>(nd);
+      outcomes_[t] = dm.element->compute(data, sc.ue, sc.une, dm.law, dm.states, dm.first_point[ci],
+                                         k && !cached, results_[t]);
+    }
+  };
+  std::vector<int> nodes;
+  for (std::size_t first = 0; first < tasks_.size(); first += chunk) {
+    const std::size_t n = std::min(chunk, tasks_.size() - first);
+    if (pool_)
+      pool_->run(n, 4, [&](std::size_t b, std::size_t e, int w) { evaluate(first, b, e, w); });
+    else
+      evaluate(first, 0, n, 0);
+    for (std::size_t t = 0; t < n; ++t) {
+      if (!outcomes_[t].ok()) return outcomes_[t]; // the first failing cell in cell order
+      const auto [di, ci] = tasks_[first + t];
+      const auto& dm = model.domains[di];
+      const ElementResult& res = results_[t];
+      nodes.clear();
+      for (int node : model.mesh.cells[dm.cells[ci]].nodes)
+        if (node >= 0) nodes.push_back(node);
+      const auto nd = static_cast<std::size_t>(nodes.size() * DofMap::per_node);
+      const std::size_t n2 = nd * nd;
+      const std::size_t start = scatter_start_[di][ci];
+      const bool cached = k && !filled_[di].empty() && filled_[di][ci];
       if (k && !cached && !filled_[di].empty()) {
-        std::copy(res.stiffness.data(), res.stiffness.data() + n2, stiffness_[di].data() + st[ci]);
+        std::copy(res.stiffness.data(), res.stiffness.data() + n2, stiffness_[di].data() + start);
         filled_[di][ci] = 1;
       }
       for (std::size_t i = 0; i < nodes.size(); ++i)
@@ -211,9 +244,9 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
           f_int[static_cast<Eigen::Index>(nodes[i]) * DofMap::per_node + c] +=
               res.force[static_cast<Eigen::Index>(i) * DofMap::per_node + c];
       if (k) {
-        const int* pos = sc.data() + st[ci];
+        const int* pos = scatter_[di].data() + start;
         // column-major, matches the scatter order
-        const double* ke = cached ? stiffness_[di].data() + st[ci] : res.stiffness.data();
+        const double* ke = cached ? stiffness_[di].data() + start : res.stiffness.data();
         for (std::size_t e = 0; e < n2; ++e)
           if (pos[e] >= 0) values[pos[e]] += ke[e];
       }

@@ -155,7 +155,8 @@ std::string scene_text(const Spec& p, const Size& s) {
   std::ostringstream t;
   t.precision(17);
   t << "title = \"bench_ccx: " << p.name << " " << s.nx << " x " << s.ny << " quad8\"\n"
-    << "[analysis]\nformulation = \"axisymmetric\"\nsolver = \"newton\"\nlinear_solver = \"auto\"\nsteps = "
+    << "[analysis]\nformulation = \"axisymmetric\"\nsolver = \"newton\"\nlinear_solver = \"auto\"\nthreads = "
+       "1\nsteps = "
     << p.steps << "\nmax_cutbacks = 0\n"
     << "[mesh]\ngenerator = \"blocks\"\nnodes_per_cell = 8\n"
     << "[[mesh.blocks]]\nname = \"ring\"\nx = [" << p.a << ", " << p.b << "]\ny = [0.0, " << p.height

@@ -80,7 +80,8 @@ std::string scene_text(const Size& s) {
   std::ostringstream t;
   t.precision(17);
   t << "title = \"bench_linear: Lame cylinder " << s.nx << " x " << s.ny << " quad8\"\n"
-    << "[analysis]\nformulation = \"axisymmetric\"\nsolver = \"newton\"\nlinear_solver = \"auto\"\nsteps = "
+    << "[analysis]\nformulation = \"axisymmetric\"\nsolver = \"newton\"\nlinear_solver = \"auto\"\nthreads = "
+       "1\nsteps = "
        "1\n"
     << "[mesh]\ngenerator = \"blocks\"\nnodes_per_cell = 8\n"
     << "[[mesh.blocks]]\nname = \"ring\"\nx = [" << radius_a << ", " << radius_b << "]\ny = [0.0, " << height

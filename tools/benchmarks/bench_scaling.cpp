@@ -122,7 +122,8 @@ std::string scene_text(Problem problem, const Size& s) {
   t.precision(17);
   t << "title = \"bench_scaling: " << problem_name(problem) << " cylinder " << s.nx << " x " << s.ny
     << " quad8\"\n"
-    << "[analysis]\nformulation = \"axisymmetric\"\nsolver = \"newton\"\nlinear_solver = \"cholmod\"\n"
+    << "[analysis]\nformulation = \"axisymmetric\"\nsolver = \"newton\"\nlinear_solver = "
+       "\"cholmod\"\nthreads = 1\n"
     << "[mesh]\ngenerator = \"blocks\"\nnodes_per_cell = 8\n"
     << "[[mesh.blocks]]\nname = \"ring\"\nx = [" << radius_a << ", " << radius_b << "]\ny = [0.0, " << height
     << "]\nnx = " << s.nx << "\nny = " << s.ny << "\n";

@@ -71,11 +71,19 @@ struct Model {
 
 /// Assembles internal forces and the tangent over the free DOFs. The sparsity
 /// pattern and the per-cell scatter indices are built once per model topology.
+class WorkerPool;
+
 class Assembler {
 public:
   /// reuse_linear_stiffness: cells whose element reports constant_stiffness keep their stiffness
   /// from the first assembly with a tangent for the assembler's lifetime (one stage).
-  explicit Assembler(const Model& model, bool reuse_linear_stiffness = true);
+  /// threads: how many threads evaluate the cells (elements and materials are const, each
+  /// cell writes only its own point states); their contributions are summed in cell order by
+  /// one thread, so every number is the same whatever the count.
+  explicit Assembler(const Model& model, bool reuse_linear_stiffness = true, int threads = 1);
+  ~Assembler();
+  Assembler(const Assembler&) = delete;
+  Assembler& operator=(const Assembler&) = delete;
 
   /// The matrix with the fixed pattern (values zero) to be filled by assemble().
   [[nodiscard]] SparseMatrix make_matrix() const { return pattern_; }
@@ -97,6 +105,18 @@ private:
   /// functions of the (fixed) geometry and material, owned by this stage's assembler.
   mutable std::vector<std::vector<double>> stiffness_;
   mutable std::vector<std::vector<char>> filled_;
+  /// The active cells in summation order: (domain, index in the domain).
+  std::vector<std::pair<std::size_t, std::size_t>> tasks_;
+  std::unique_ptr<WorkerPool> pool_;
+  /// Scratch of one evaluation pass: per-thread gather buffers and per-cell results of a chunk.
+  struct Scratch {
+    std::vector<int> nodes;
+    Eigen::MatrixX2d x;
+    Eigen::VectorXd ue, une;
+  };
+  mutable std::vector<Scratch> scratch_;
+  mutable std::vector<ElementResult> results_;
+  mutable std::vector<Outcome> outcomes_;
 };
 
 /// Adds consistent nodal forces of a normal pressure p(x) (kPa, positive = pushing into the
