@@ -209,6 +209,8 @@ def main():
                         ("linear cells' stiffness at every assembly (reuse_linear_stiffness = false)",
                          base.replace('linear_solver = "auto"',
                                       'linear_solver = "auto"\nreuse_linear_stiffness = false')),
+                        ("element loop on one thread (threads = 1; default: all cores)",
+                         base.replace('linear_solver = "auto"', 'linear_solver = "auto"\nthreads = 1')),
                         ("modified_newton (factorization reused in a step)",
                          scene_text("hypoelastic", 24, 60.0, solver="modified_newton"))]:
         ok, curve, wall, prof, msg = run(a.stratum, text, a.repeat)
