@@ -17,6 +17,7 @@
 // Usage: bench_ccx [--max-dof N] [--hill-max-dof N] [--repeat K] [--hill-repeat K]
 //                  [--no-write] [--keep] [--docs PATH] [--plugin-dir DIR] [--ccx PATH]
 // README.md in this folder describes what is timed and the columns.
+#include "cli.hpp"
 #include "docs_section.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/linear_solver.hpp"
@@ -780,66 +781,26 @@ std::string section(const std::vector<Row>& rows, const Options& o, const std::s
   return s.str();
 }
 
-void usage(std::ostream& os) {
-  os << "usage: bench_ccx [--max-dof N] [--hill-max-dof N] [--repeat K] [--hill-repeat K] [--no-write]\n"
-        "                 [--keep] [--docs PATH] [--plugin-dir DIR] [--ccx PATH]\n"
-        "  --max-dof N       largest elastic (Lame) size (default 1e5; sizes ~1e4, 1e5)\n"
-        "  --hill-max-dof N  largest plastic (Hill) size (default 1e5; 0 skips Hill)\n"
-        "  --repeat K        repetitions of every elastic size, medians reported (default 3)\n"
-        "  --hill-repeat K   repetitions of every Hill size (default 1: ccx needs minutes there)\n"
-        "  --no-write        do not update the docs file\n"
-        "  --keep            keep the ccx input and output in the temporary directory\n"
-        "  --docs PATH       file to update (default <source>/docs/benchmarks.md)\n"
-        "  --plugin-dir DIR  plugins to load (default: the build tree's)\n"
-        "  --ccx PATH        the CalculiX program (default: ccx on PATH)\n";
-}
-
-bool parse(int argc, char** argv, Options& o) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (a == "--max-dof" && has_value) {
-      o.max_dof = std::strtod(argv[++i], nullptr);
-      if (!(o.max_dof >= 0)) return false;
-    } else if (a == "--hill-max-dof" && has_value) {
-      o.hill_max_dof = std::strtod(argv[++i], nullptr);
-      if (!(o.hill_max_dof >= 0)) return false;
-    } else if (a == "--repeat" && has_value) {
-      o.repeat = std::atoi(argv[++i]);
-      if (o.repeat < 1) return false;
-    } else if (a == "--hill-repeat" && has_value) {
-      o.hill_repeat = std::atoi(argv[++i]);
-      if (o.hill_repeat < 1) return false;
-    } else if (a == "--docs" && has_value) {
-      o.docs = argv[++i];
-    } else if (a == "--plugin-dir" && has_value) {
-      o.plugin_dir = argv[++i];
-    } else if (a == "--ccx" && has_value) {
-      o.ccx = argv[++i];
-    } else if (a == "--no-write") {
-      o.write = false;
-    } else if (a == "--keep") {
-      o.keep = true;
-    } else {
-      return false;
-    }
-  }
-  return true;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
   const std::string load = load_average();
   Options opt;
-  if (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
-    usage(std::cout);
-    return 0;
-  }
-  if (!parse(argc, argv, opt)) {
-    usage(std::cerr);
-    return 2;
-  }
+  const auto cli =
+      stratum::bench::Cli("bench_ccx")
+          .number("--max-dof", "largest elastic (Lame) size (default 1e5; sizes ~1e4, 1e5)", opt.max_dof,
+                  true)
+          .number("--hill-max-dof", "largest plastic (Hill) size (default 1e5; 0 skips Hill)",
+                  opt.hill_max_dof, true)
+          .count("--repeat", "repetitions of every elastic size, medians reported (default 3)", opt.repeat)
+          .count("--hill-repeat", "repetitions of every Hill size (default 1: ccx needs minutes there)",
+                 opt.hill_repeat)
+          .flag("--no-write", "do not update the docs file", opt.write, false)
+          .flag("--keep", "keep the ccx input and output in the temporary directory", opt.keep)
+          .text("--docs", "PATH", "file to update (default <source>/docs/benchmarks.md)", opt.docs)
+          .text("--plugin-dir", "DIR", "plugins to load (default: the build tree's)", opt.plugin_dir)
+          .text("--ccx", "PATH", "the CalculiX program (default: ccx on PATH)", opt.ccx);
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
   if (!have_program(opt.ccx)) {
     std::fprintf(stderr, "bench_ccx: CalculiX (%s) is not installed (Debian: apt-get install calculix-ccx)\n",
                  opt.ccx.c_str());

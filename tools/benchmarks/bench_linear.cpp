@@ -10,6 +10,7 @@
 //
 // Usage: bench_linear [--max-dof N] [--repeat K] [--no-write] [--docs PATH] [--plugin-dir DIR]
 // README.md in this folder describes the columns.
+#include "cli.hpp"
 #include "docs_section.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/linear_solver.hpp"
@@ -405,51 +406,20 @@ void write_docs(const std::string& path, const std::string& block) {
   stratum::bench::replace_docs_section(path, begin_marker, end_marker, block);
 }
 
-void usage(std::ostream& os) {
-  os << "usage: bench_linear [--max-dof N] [--repeat K] [--no-write] [--docs PATH] [--plugin-dir DIR]\n"
-        "  --max-dof N   largest size to run (default 1e6; sizes ~1e4, 3e4, 1e5, 3e5, 1e6)\n"
-        "  --repeat K    repetitions per size, medians reported (default 3)\n"
-        "  --no-write    do not update the docs file\n"
-        "  --docs PATH   file to update (default <source>/docs/benchmarks.md)\n"
-        "  --plugin-dir DIR  plugins to load (default: the build tree's)\n";
-}
-
-bool parse(int argc, char** argv, Options& o) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (a == "--max-dof" && has_value) {
-      o.max_dof = std::strtod(argv[++i], nullptr);
-      if (!(o.max_dof > 0)) return false;
-    } else if (a == "--repeat" && has_value) {
-      o.repeat = std::atoi(argv[++i]);
-      if (o.repeat < 1) return false;
-    } else if (a == "--docs" && has_value) {
-      o.docs = argv[++i];
-    } else if (a == "--plugin-dir" && has_value) {
-      o.plugin_dir = argv[++i];
-    } else if (a == "--no-write") {
-      o.write = false;
-    } else {
-      return false;
-    }
-  }
-  return true;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
   const std::string load = load_average();
   Options opt;
-  if (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
-    usage(std::cout);
-    return 0;
-  }
-  if (!parse(argc, argv, opt)) {
-    usage(std::cerr);
-    return 2;
-  }
+  const auto cli =
+      stratum::bench::Cli("bench_linear")
+          .number("--max-dof", "largest size to run (default 1e6; sizes ~1e4, 3e4, 1e5, 3e5, 1e6)",
+                  opt.max_dof)
+          .count("--repeat", "repetitions per size, medians reported (default 3)", opt.repeat)
+          .flag("--no-write", "do not update the docs file", opt.write, false)
+          .text("--docs", "PATH", "file to update (default <source>/docs/benchmarks.md)", opt.docs)
+          .text("--plugin-dir", "DIR", "plugins to load (default: the build tree's)", opt.plugin_dir);
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
   std::printf("bench_linear: Lame cylinder, axisymmetric quad8, 3x3 Gauss; %u cores (%s), "
               "OPENBLAS_NUM_THREADS=%s, load %s; median of %d; times in s\n",
               std::thread::hardware_concurrency(), cpu_model().c_str(),

@@ -22,6 +22,7 @@
 // Usage: bench_scaling [--max-dof N] [--repeat K] [--repeat-large K] [--no-write] [--docs PATH]
 //                      [--csv PATH] [--plugin-dir DIR]
 // README.md in this folder describes the columns.
+#include "cli.hpp"
 #include "docs_section.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/linear_solver.hpp"
@@ -762,60 +763,23 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
   std::filesystem::rename(tmp, p);
 }
 
-void usage(std::ostream& os) {
-  os << "usage: bench_scaling [--max-dof N] [--repeat K] [--repeat-large K] [--no-write] [--docs PATH]\n"
-        "                     [--csv PATH] [--plugin-dir DIR]\n"
-        "  --max-dof N       largest size to run (default 1e6; sizes ~1e3, 3e3, 1e4, 3e4, 1e5, 3e5, 1e6)\n"
-        "  --repeat K        runs per size up to 3e5 DOF, medians reported (default 3)\n"
-        "  --repeat-large K  runs per size above 3e5 DOF (default 1)\n"
-        "  --no-write        do not update the docs file and the CSV\n"
-        "  --docs PATH       file to update (default <source>/docs/benchmarks.md)\n"
-        "  --csv PATH        CSV for tools/plot_scaling.py (default "
-        "<source>/docs/figures/bench_scaling.csv)\n"
-        "  --plugin-dir DIR  plugins to load (default: the build tree's)\n";
-}
-
-bool parse(int argc, char** argv, Options& o) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (a == "--max-dof" && has_value) {
-      o.max_dof = std::strtod(argv[++i], nullptr);
-      if (!(o.max_dof > 0)) return false;
-    } else if (a == "--repeat" && has_value) {
-      o.repeat = std::atoi(argv[++i]);
-      if (o.repeat < 1) return false;
-    } else if (a == "--repeat-large" && has_value) {
-      o.repeat_large = std::atoi(argv[++i]);
-      if (o.repeat_large < 1) return false;
-    } else if (a == "--docs" && has_value) {
-      o.docs = argv[++i];
-    } else if (a == "--csv" && has_value) {
-      o.csv = argv[++i];
-    } else if (a == "--plugin-dir" && has_value) {
-      o.plugin_dir = argv[++i];
-    } else if (a == "--no-write") {
-      o.write = false;
-    } else {
-      return false;
-    }
-  }
-  return true;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
   const std::string load = load_average();
   Options opt;
-  if (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
-    usage(std::cout);
-    return 0;
-  }
-  if (!parse(argc, argv, opt)) {
-    usage(std::cerr);
-    return 2;
-  }
+  const auto cli =
+      stratum::bench::Cli("bench_scaling")
+          .number("--max-dof", "largest size to run (default 1e6; sizes ~1e3, 3e3, 1e4, 3e4, 1e5, 3e5, 1e6)",
+                  opt.max_dof)
+          .count("--repeat", "runs per size up to 3e5 DOF, medians reported (default 3)", opt.repeat)
+          .count("--repeat-large", "runs per size above 3e5 DOF (default 1)", opt.repeat_large)
+          .flag("--no-write", "do not update the docs file and the CSV", opt.write, false)
+          .text("--docs", "PATH", "file to update (default <source>/docs/benchmarks.md)", opt.docs)
+          .text("--csv", "PATH",
+                "CSV for tools/plot_scaling.py (default <source>/docs/figures/bench_scaling.csv)", opt.csv)
+          .text("--plugin-dir", "DIR", "plugins to load (default: the build tree's)", opt.plugin_dir);
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
   const double clock_read = clock_read_seconds();
   std::printf("bench_scaling: thick cylinder, axisymmetric quad8, 3x3 Gauss; %u cores (%s), "
               "OPENBLAS_NUM_THREADS=%s, load %s; median of %d (%d above 3e5 DOF); clock read %.1f ns; "
