@@ -82,6 +82,23 @@ std::string staged_pile_scene(const StagedPile& s) {
   return t.str();
 }
 
+/// A short pile (r0 = 0.25, L = 3) on a small pile mesh with a cohesive (c = 15 kPa) Coulomb
+/// interface on the shaft, placed with the hydrostatic fresh-concrete stress: the C1 path of
+/// the tests that compare two runs bit for bit.
+StagedPile small_slipping_pile() {
+  StagedPile s;
+  s.r0 = 0.25, s.L = 3.0, s.Ep = 30e6;
+  s.near_radius = 2.0, s.near_depth = 4.5, s.domain_radius = 6.0, s.domain_depth = 9.0;
+  s.n_shaft = 6, s.n_near = 4, s.n_far = 3, s.n_below = 3, s.n_deep = 2;
+  s.extra = "[contact_laws.shaft]\nmodel = \"coulomb_elastoplastic\"\nk_s = 1e5\nk_n = 1e6\nc = 15.0\n"
+            "sigma_t = 1000.0\n[[interfaces]]\nname = \"shaft_interface\"\nedges = \"hole\"\ncells = "
+            "\"pile\"\nelement = \"interface_line\"\nlaw = \"shaft\"\ncsv = false\n";
+  s.concrete = "[[stages.actions]]\ntype = \"activate\"\ncells = \"pile\"\nstress = \"hydrostatic\"\ngamma = "
+               "24.0\n[[stages.actions]]\ntype = \"activate\"\ncells = \"shaft_interface\"\nstress = "
+               "\"hydrostatic\"\ngamma = 24.0\n";
+  return s;
+}
+
 } // namespace
 
 TEST_CASE("E3 guard: the Randolph-Wroth formula reproduces the catalogue's worked case", "[verification]") {
@@ -174,16 +191,8 @@ TEST_CASE("reusing the stiffness of linear cells changes no number of a staged r
   // each stage (reuse_linear_stiffness = true, the default) or recomputes it every time. The
   // cached matrices are the recomputed ones, so every settlement and load must agree bit for bit
   // (a wrong cache slot or a cache kept across a stage's activation would change them).
-  StagedPile s;
-  s.r0 = 0.25, s.L = 3.0, s.Es = 20000.0, s.Ep = 30e6;
-  s.near_radius = 2.0, s.near_depth = 4.5, s.domain_radius = 6.0, s.domain_depth = 9.0;
-  s.n_shaft = 6, s.n_near = 4, s.n_far = 3, s.n_below = 3, s.n_deep = 2;
-  s.extra = "[contact_laws.shaft]\nmodel = \"coulomb_elastoplastic\"\nk_s = 1e5\nk_n = 1e6\nc = 15.0\n"
-            "sigma_t = 1000.0\n[[interfaces]]\nname = \"shaft_interface\"\nedges = \"hole\"\ncells = "
-            "\"pile\"\nelement = \"interface_line\"\nlaw = \"shaft\"\ncsv = false\n";
-  s.concrete = "[[stages.actions]]\ntype = \"activate\"\ncells = \"pile\"\nstress = \"hydrostatic\"\ngamma = "
-               "24.0\n[[stages.actions]]\ntype = \"activate\"\ncells = \"shaft_interface\"\nstress = "
-               "\"hydrostatic\"\ngamma = 24.0\n";
+  StagedPile s = small_slipping_pile();
+  s.Es = 20000.0;
   s.steps = 10;
   s.loading = "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nsettlement = 0.02\n";
   const std::string on = staged_pile_scene(s);
@@ -212,16 +221,7 @@ TEST_CASE("the element loop on several threads changes no number of a staged non
   // (more than this machine's cores, so the threads interleave), and their contributions are
   // summed in cell order either way. Every load, settlement, displacement and point state must
   // agree bit for bit; a race on a point state or a sum in thread order would show here.
-  StagedPile s;
-  s.r0 = 0.25, s.L = 3.0, s.Ep = 30e6;
-  s.near_radius = 2.0, s.near_depth = 4.5, s.domain_radius = 6.0, s.domain_depth = 9.0;
-  s.n_shaft = 6, s.n_near = 4, s.n_far = 3, s.n_below = 3, s.n_deep = 2;
-  s.extra = "[contact_laws.shaft]\nmodel = \"coulomb_elastoplastic\"\nk_s = 1e5\nk_n = 1e6\nc = 15.0\n"
-            "sigma_t = 1000.0\n[[interfaces]]\nname = \"shaft_interface\"\nedges = \"hole\"\ncells = "
-            "\"pile\"\nelement = \"interface_line\"\nlaw = \"shaft\"\ncsv = false\n";
-  s.concrete = "[[stages.actions]]\ntype = \"activate\"\ncells = \"pile\"\nstress = \"hydrostatic\"\ngamma = "
-               "24.0\n[[stages.actions]]\ntype = \"activate\"\ncells = \"shaft_interface\"\nstress = "
-               "\"hydrostatic\"\ngamma = 24.0\n";
+  StagedPile s = small_slipping_pile();
   s.steps = 6;
   s.loading = "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nsettlement = 0.01\n";
   std::string text = staged_pile_scene(s);
