@@ -82,6 +82,14 @@ std::string staged_pile_scene(const StagedPile& s) {
   return t.str();
 }
 
+/// The scene text with one more line in its [analysis] table (staged_pile_scene writes it first).
+std::string with_analysis(std::string text, const std::string& line) {
+  const std::string key = "formulation = \"axisymmetric\"\n";
+  const auto at = text.find(key);
+  REQUIRE(at != std::string::npos);
+  return text.insert(at + key.size(), line + "\n");
+}
+
 /// A short pile (r0 = 0.25, L = 3) on a small pile mesh with a cohesive (c = 15 kPa) Coulomb
 /// interface on the shaft, placed with the hydrostatic fresh-concrete stress: the C1 path of
 /// the tests that compare two runs bit for bit.
@@ -196,11 +204,8 @@ TEST_CASE("reusing the stiffness of linear cells changes no number of a staged r
   s.steps = 10;
   s.loading = "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nsettlement = 0.02\n";
   const std::string on = staged_pile_scene(s);
-  std::string off = on;
-  const std::string key = "formulation = \"axisymmetric\"\n";
-  off.replace(off.find(key), key.size(), key + "reuse_linear_stiffness = false\n");
   auto a = scene(on, "reuse_on.toml");
-  auto b = scene(off, "reuse_off.toml");
+  auto b = scene(with_analysis(on, "reuse_linear_stiffness = false"), "reuse_off.toml");
   const auto ra = a->run(), rb = b->run();
   INFO(ra.outcome.message << " / " << rb.outcome.message);
   REQUIRE(ra.outcome.ok());
@@ -238,12 +243,8 @@ TEST_CASE("the element loop on several threads changes no number of a staged non
   REQUIRE(text.find(tol) != std::string::npos);
   text.replace(text.find(tol), tol.size(),
                "force_rtol = 1e-5\nmax_iterations = 40\n[solver]\nline_search = 4\n");
-  const std::string key = "formulation = \"axisymmetric\"\n";
-  std::string one = text, three = text;
-  one.replace(one.find(key), key.size(), key + "threads = 1\n");
-  three.replace(three.find(key), key.size(), key + "threads = 3\n");
-  auto a = scene(one, "threads_1.toml");
-  auto b = scene(three, "threads_3.toml");
+  auto a = scene(with_analysis(text, "threads = 1"), "threads_1.toml");
+  auto b = scene(with_analysis(text, "threads = 3"), "threads_3.toml");
   const auto ra = a->run(), rb = b->run();
   INFO(ra.outcome.message << " / " << rb.outcome.message);
   REQUIRE(ra.outcome.ok());

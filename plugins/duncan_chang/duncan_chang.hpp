@@ -365,12 +365,8 @@ public:
         // The moduli of the step's start on both parts: the stress is linear in the increment
         // for a given branch split, so global Newton sees a piecewise-linear material.
         const Point p0 = point(s);
-        auto D = [&](bool unloading) {
-          const Moduli mo = moduli(p0, unloading);
-          return stiffness_kg(mo.K, mo.G);
-        };
-        if (alpha > 0.0) s += D(true) * (alpha * dd);
-        if (alpha < 1.0) s += D(false) * ((1.0 - alpha) * dd);
+        if (alpha > 0.0) s += explicit_stiffness(p0, 1.0) * (alpha * dd);
+        if (alpha < 1.0) s += explicit_stiffness(p0, 0.0) * ((1.0 - alpha) * dd);
       } else {
         if (alpha > 0.0) s = heun(s, alpha * dd, true);
         if (alpha < 1.0) s = heun(s, (1.0 - alpha) * dd, false);
