@@ -206,12 +206,15 @@ def main():
               f"footing) at the end. Reference: {200 if a.quick else 1000} steps, closest_point, force_rtol "
               f"1e-10: **P = {P_ref:.4f} kN/m** ({ref_wall:.1f} s; (2 + pi) k B/2 = 514.16).\n")
     rows = []
-    integrators = ["closest_point", "cutting_plane"] if a.quick else ["closest_point", "cutting_plane",
-                                                                      "modified_euler", "midpoint"]
-    fvariants = [("newton", i, r, n) for i in integrators
+    # Newton with the two integrators that return an algorithmic tangent over steps and tolerances;
+    # the explicit integrators (no consistent tangent: Newton needs 100-200 s per run and often
+    # fails, see the stability matrix) once each at 30 steps; the other solvers with closest_point.
+    fvariants = [("newton", i, r, n) for i in ["closest_point", "cutting_plane"]
                  for r in (["1e-8"] if a.quick else ["1e-4", "1e-8"]) for n in fsteps]
+    if not a.quick:
+        fvariants += [("newton", i, "1e-4", 30) for i in ["modified_euler", "midpoint"]]
     fvariants += [(sv, "closest_point", "1e-8", n) for sv in ["modified_newton", "kinsol"]
-                  for n in (fsteps[-1:] if a.quick else fsteps)]
+                  for n in (fsteps[-1:] if a.quick else [10, 30])]
     for solver, integ, rtol, n in fvariants:
         ok, curve, wall, prof, msg = run(a.stratum, footing(n, solver, integ, rtol), a.repeat)
         P = curve[-1][0] if ok and curve and abs(curve[-1][1] - 60.0) < 1e-6 else float("nan")
