@@ -91,17 +91,21 @@ private:
   Eigen::VectorXd ref_, full_, fint_;
 };
 
-/// Forwards to a linear solver and adds the time of each call to the run's RunTimes.
+/// Forwards to a linear solver and adds the time of each call to the run's RunTimes. With
+/// analyze_each, every factorization is preceded by a symbolic analysis of the matrix (only
+/// to measure what reusing the stage's analysis saves; the results are the same).
 class TimedLinearSolver final : public LinearSolver {
 public:
-  TimedLinearSolver(std::unique_ptr<LinearSolver> inner, RunTimes& times)
-      : inner_(std::move(inner)), times_(times) {}
+  TimedLinearSolver(std::unique_ptr<LinearSolver> inner, RunTimes& times, bool analyze_each)
+      : inner_(std::move(inner)), times_(times), analyze_each_(analyze_each) {}
   std::string name() const override { return inner_->name(); }
   Outcome analyze(const SparseMatrix& a) override {
     ++times_.analyses;
     return timed(times_.analyze, [&] { return inner_->analyze(a); });
   }
   Outcome factorize(const SparseMatrix& a) override {
+    if (analyze_each_)
+      if (auto o = analyze(a); !o.ok()) return o;
     ++times_.factorizations;
     return timed(times_.factorize, [&] { return inner_->factorize(a); });
   }
@@ -113,6 +117,7 @@ public:
 private:
   std::unique_ptr<LinearSolver> inner_;
   RunTimes& times_;
+  bool analyze_each_;
 };
 
 /// Tangent (Euler) predictor for a step from lambda_n to lambda: u += K_n^-1 dR/dlambda (lambda -
@@ -141,6 +146,11 @@ Schema analysis_schema() {
   s.boolean("reuse_linear_stiffness",
             "compute the stiffness of cells with a linear material once per stage (false: at every "
             "assembly; the results are the same, for measuring what the reuse saves)")
+      .defaults_to(true);
+  s.boolean("reuse_symbolic",
+            "analyze the sparsity pattern of the stage's matrix once and reuse it in every "
+            "factorization (false: analyze before each one; the results are the same, for measuring "
+            "what the reuse saves)")
       .defaults_to(true);
   s.integer("threads", "-",
             "threads that evaluate the elements and materials (0 = all of the machine's; the results "
@@ -295,6 +305,7 @@ struct Analysis::Impl {
   Model model;
   std::string linear_solver = "auto";
   bool reuse_linear_stiffness = true;
+  bool reuse_symbolic = true;
   int threads = 1; ///< element-loop threads, resolved ([analysis] threads, 0 = the machine's)
   StepSettings stepping;
   Convergence convergence;
@@ -366,6 +377,7 @@ void Analysis::Impl::build(const toml::table& root) {
       ap.text("formulation") == "axisymmetric" ? Formulation::axisymmetric : Formulation::plane_strain;
   linear_solver = ap.text("linear_solver");
   reuse_linear_stiffness = ap.flag("reuse_linear_stiffness");
+  reuse_symbolic = ap.flag("reuse_symbolic");
   threads = resolve_threads(ap.integer("threads"));
   stepping.steps = static_cast<int>(ap.integer("steps"));
   stepping.max_cutbacks = static_cast<int>(ap.integer("max_cutbacks"));
@@ -1174,7 +1186,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   m.rebuild_dofs();
   const Assembler assembler(m, reuse_linear_stiffness, threads);
   auto ls = std::make_unique<TimedLinearSolver>(
-      make_linear_solver(linear_solver, m.symmetric(), m.dofs.free_count), summary.times);
+      make_linear_solver(linear_solver, m.symmetric(), m.dofs.free_count), summary.times, !reuse_symbolic);
   {
     SparseMatrix kpat = assembler.make_matrix();
     if (auto o = ls->analyze(kpat); !o.ok()) {
