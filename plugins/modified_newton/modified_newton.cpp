@@ -52,10 +52,14 @@ public:
     const Eigen::VectorXd u_n = u;
     Eigen::VectorXd r, du;
     double r0 = -1.0, e0 = -1.0;
+    bool current = false; // r (and k when refreshed) already belong to u (from the line search)
+    auto refresh_at = [&](int it) {
+      return mode_ == Mode::step_start && (it <= 1 || (refresh_every_ > 0 && it % refresh_every_ == 0));
+    };
     for (int it = 0;; ++it) {
-      const bool refresh =
-          mode_ == Mode::step_start && (it <= 1 || (refresh_every_ > 0 && it % refresh_every_ == 0));
-      if (auto o = problem.evaluate(u, req.lambda, r, refresh ? &k : nullptr); !o.ok()) return fail(rep, o);
+      const bool refresh = refresh_at(it);
+      if (!current)
+        if (auto o = problem.evaluate(u, req.lambda, r, refresh ? &k : nullptr); !o.ok()) return fail(rep, o);
       const double rn = r.norm();
       rep.residual_norms.push_back(rn);
       if (!std::isfinite(rn)) return fail(rep, {Status::non_finite, "residual is NaN or Inf"});
@@ -85,8 +89,11 @@ public:
       ++rep.iterations;
       ++rep.solves;
       if (e0 < 0) e0 = std::abs(du.dot(r));
-      du *= iteration::line_search(problem, u, du, req.lambda, rn, line_search_);
+      const iteration::Backtrack b = iteration::line_search(problem, u, du, req.lambda, rn, line_search_, r,
+                                                            refresh_at(it + 1) ? &k : nullptr);
+      du *= b.step;
       u += du;
+      current = b.evaluated;
     }
   }
 

@@ -30,8 +30,10 @@ public:
     const Eigen::VectorXd u_n = u;
     Eigen::VectorXd r, du;
     double r0 = -1.0, e0 = -1.0;
+    bool current = false; // r, k and the trial states already belong to u (from the line search)
     for (int it = 0;; ++it) {
-      if (auto o = problem.evaluate(u, req.lambda, r, &k); !o.ok()) return fail(rep, o);
+      if (!current)
+        if (auto o = problem.evaluate(u, req.lambda, r, &k); !o.ok()) return fail(rep, o);
       const double rn = r.norm();
       rep.residual_norms.push_back(rn);
       if (!std::isfinite(rn)) return fail(rep, {Status::non_finite, "residual is NaN or Inf"});
@@ -59,9 +61,12 @@ public:
       ++rep.solves;
       if (e0 < 0) e0 = std::abs(du.dot(r));
       // Backtracking: halve the correction while the residual grows (at most line_search times).
-      // The residual of the accepted point is re-evaluated with the tangent at the loop top.
-      du *= iteration::line_search(problem, u, du, req.lambda, rn, line_search_);
+      // The full step is tried with the tangent, so an accepted full step is not evaluated twice.
+      const iteration::Backtrack b =
+          iteration::line_search(problem, u, du, req.lambda, rn, line_search_, r, &k);
+      du *= b.step;
       u += du;
+      current = b.evaluated;
     }
   }
 

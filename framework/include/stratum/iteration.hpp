@@ -33,21 +33,35 @@ struct Check {
   return k;
 }
 
-/// Backtracking: the largest step 2^-k (k < max_halvings) with |R(u + s du)| < |R(u)| = rn,
-/// evaluated without the tangent; 2^-max_halvings when none decreases the residual. Returns 1
-/// when max_halvings == 0. The trial state is left at the last evaluated point: the caller
-/// re-evaluates at the accepted one.
-[[nodiscard]] inline double line_search(NonlinearProblem& problem, const Eigen::VectorXd& u,
-                                        const Eigen::VectorXd& du, double lambda, double rn,
-                                        int max_halvings) {
-  double s = 1.0;
-  Eigen::VectorXd rt;
+/// The outcome of a backtracking line search.
+struct Backtrack {
+  double step = 1.0;      ///< the accepted fraction s of the correction
+  bool evaluated = false; ///< `residual` (and the tangent, when one was passed) hold R(u + s du)
+};
+
+/// Backtracking: the largest step s = 2^-k (k < max_halvings) with |R(u + s du)| < |R(u)| = rn;
+/// s = 2^-max_halvings, not evaluated, when none decreases the residual; s = 1, not evaluated,
+/// when max_halvings == 0. Every trial is evaluated into `residual`; the full step s = 1 also
+/// with the tangent when `tangent` is not null (a caller that needs the tangent at the next
+/// iterate passes it; when the full step is accepted, as it mostly is, that evaluation is the
+/// next iterate's). When Backtrack::evaluated is set, `residual` (and the tangent, if asked for)
+/// and the trial states belong to the accepted point u + s du, so the caller need not evaluate
+/// it again; otherwise it must.
+[[nodiscard]] inline Backtrack line_search(NonlinearProblem& problem, const Eigen::VectorXd& u,
+                                           const Eigen::VectorXd& du, double lambda, double rn,
+                                           int max_halvings, Eigen::VectorXd& residual,
+                                           SparseMatrix* tangent) {
+  Backtrack b;
   for (int k = 0; k < max_halvings; ++k) {
-    const Outcome o = problem.evaluate(u + s * du, lambda, rt, nullptr);
-    if (o.ok() && rt.allFinite() && rt.norm() < rn) break;
-    s *= 0.5;
+    SparseMatrix* t = k == 0 ? tangent : nullptr;
+    const Outcome o = problem.evaluate(u + b.step * du, lambda, residual, t);
+    if (o.ok() && residual.allFinite() && residual.norm() < rn) {
+      b.evaluated = tangent == nullptr || k == 0;
+      return b;
+    }
+    b.step *= 0.5;
   }
-  return s;
+  return b;
 }
 
 } // namespace stratum::iteration
