@@ -191,6 +191,7 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
   // so the sums, and every number downstream, do not depend on the thread count.
   const std::size_t chunk = pool_ ? std::min<std::size_t>(tasks_.size(), 256) : 1;
   if (results_.size() < chunk) {
+    nodes_.resize(chunk);
     results_.resize(chunk);
     outcomes_.resize(chunk);
   }
@@ -200,13 +201,14 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
       const auto [di, ci] = tasks_[first + t];
       auto& dm = model.domains[di];
       const int cell = dm.cells[ci];
-      model.cell_nodes(cell, sc.nodes, sc.x);
-      const auto nd = static_cast<Eigen::Index>(sc.nodes.size() * DofMap::per_node);
+      std::vector<int>& nodes = nodes_[t];
+      model.cell_nodes(cell, nodes, sc.x);
+      const auto nd = static_cast<Eigen::Index>(nodes.size() * DofMap::per_node);
       sc.ue.resize(nd);
       sc.une.resize(nd);
-      for (std::size_t i = 0; i < sc.nodes.size(); ++i)
+      for (std::size_t i = 0; i < nodes.size(); ++i)
         for (int c = 0; c < DofMap::per_node; ++c) {
-          const auto g = static_cast<Eigen::Index>(sc.nodes[i]) * DofMap::per_node + c;
+          const auto g = static_cast<Eigen::Index>(nodes[i]) * DofMap::per_node + c;
           sc.ue[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = u[g];
           sc.une[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = model.u[g];
         }
@@ -216,7 +218,6 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
                                          k && !cached, results_[t]);
     }
   };
-  std::vector<int> nodes;
   for (std::size_t first = 0; first < tasks_.size(); first += chunk) {
     const std::size_t n = std::min(chunk, tasks_.size() - first);
     if (pool_)
@@ -226,11 +227,8 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
     for (std::size_t t = 0; t < n; ++t) {
       if (!outcomes_[t].ok()) return outcomes_[t]; // the first failing cell in cell order
       const auto [di, ci] = tasks_[first + t];
-      const auto& dm = model.domains[di];
       const ElementResult& res = results_[t];
-      nodes.clear();
-      for (int node : model.mesh.cells[dm.cells[ci]].nodes)
-        if (node >= 0) nodes.push_back(node);
+      const std::vector<int>& nodes = nodes_[t];
       const auto nd = static_cast<std::size_t>(nodes.size() * DofMap::per_node);
       const std::size_t n2 = nd * nd;
       const std::size_t start = scatter_start_[di][ci];

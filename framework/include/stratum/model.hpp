@@ -108,13 +108,14 @@ private:
   /// The active cells in summation order: (domain, index in the domain).
   std::vector<std::pair<std::size_t, std::size_t>> tasks_;
   std::unique_ptr<WorkerPool> pool_;
-  /// Scratch of one evaluation pass: per-thread gather buffers and per-cell results of a chunk.
+  /// Scratch of one evaluation pass: per-thread gather buffers, and per cell of a chunk its
+  /// nodes (gathered once, read again by the summation), result and outcome.
   struct Scratch {
-    std::vector<int> nodes;
     Eigen::MatrixX2d x;
     Eigen::VectorXd ue, une;
   };
   mutable std::vector<Scratch> scratch_;
+  mutable std::vector<std::vector<int>> nodes_;
   mutable std::vector<ElementResult> results_;
   mutable std::vector<Outcome> outcomes_;
 };
