@@ -479,3 +479,79 @@ TEST_CASE("convergence tests: force, energy (4.21) and displacement, relative or
   CHECK(iteration::check(c, 0.001, 1e4, true, 0.9e-9, 0.0, 0, 0).converged());      // absolute
   CHECK_FALSE(iteration::check(c, 0.02, 1e4, true, 0.9e-9, 0.0, 0, 0).converged()); // force still applies
 }
+
+TEST_CASE("the line search hands its accepted evaluation to the next iteration", "[solver]") {
+  // Hardening bar (H = 30 kPa), one step to lambda = 1.5, beyond f_t = 1: Newton's full steps
+  // decrease |R| and are accepted. With line_search > 0 the full step is evaluated with the
+  // tangent and that evaluation is the next iterate's, so every iterate is evaluated exactly once
+  // (a separate evaluation of the accepted point would double the count); the iterates and the
+  // result are those of plain Newton bit for bit, and the result is the closed form.
+  class Counting final : public NonlinearProblem {
+  public:
+    explicit Counting(NonlinearProblem& p) : p_(p) {}
+    Eigen::Index size() const override { return p_.size(); }
+    Outcome evaluate(const Eigen::VectorXd& u, double lambda, Eigen::VectorXd& r, SparseMatrix* k) override {
+      points.push_back(u);
+      tangents += k != nullptr;
+      return p_.evaluate(u, lambda, r, k);
+    }
+    SparseMatrix make_tangent() const override { return p_.make_tangent(); }
+    const Eigen::VectorXd& reference_load() const override { return p_.reference_load(); }
+    LinearSolver& linear_solver() override { return p_.linear_solver(); }
+    double force_scale(double lambda) const override { return p_.force_scale(lambda); }
+    std::vector<Eigen::VectorXd> points;
+    int tangents = 0;
+
+  private:
+    NonlinearProblem& p_;
+  };
+  struct Run {
+    StepReport rep;
+    Eigen::VectorXd u;
+    std::vector<Eigen::VectorXd> points;
+    int tangents = 0;
+  };
+  auto run = [](const std::string& solver, const std::string& params) {
+    auto s = load_solver(solver, params);
+    SofteningBar bar(10, 1.0, 100.0, 1.0, 30.0);
+    Counting counting(bar);
+    StepRequest req;
+    req.lambda_n = 0.0;
+    req.lambda = 1.5;
+    req.convergence.force_rtol = 1e-12;
+    req.convergence.max_iterations = 40;
+    Run r;
+    r.u = Eigen::VectorXd::Zero(10);
+    r.rep = s->solver->solve(counting, req, r.u);
+    r.points = counting.points;
+    r.tangents = counting.tangents;
+    return r;
+  };
+  // u(L) = 0.9 m * 1.5 / E + 0.1 m * (f_t / E + (1.5 - f_t) / H)
+  const double u_end = 0.9 * 1.5 / 100.0 + 0.1 * (1.0 / 100.0 + 0.5 / 30.0);
+  const Run plain = run("newton", "line_search = 0");
+  const Run searched = run("newton", "line_search = 8");
+  REQUIRE(plain.rep.outcome.ok());
+  REQUIRE(searched.rep.outcome.ok());
+  CHECK(plain.u[9] == Approx(u_end).epsilon(1e-10));
+  REQUIRE(searched.rep.iterations >= 2); // the plastic step needs more than one correction
+  CHECK(searched.u == plain.u);          // bit for bit
+  CHECK(searched.rep.residual_norms == plain.rep.residual_norms);
+  // every iterate evaluated once, with the tangent; no point evaluated twice
+  CHECK(searched.points.size() == searched.rep.residual_norms.size());
+  CHECK(searched.tangents == static_cast<int>(searched.points.size()));
+  for (std::size_t i = 1; i < searched.points.size(); ++i)
+    CHECK(searched.points[i] != searched.points[i - 1]);
+
+  // modified Newton: the tangent is refreshed at iterations 0 and 1 only; the accepted trials'
+  // residuals are handed on the same way, with the tangent only where the next iteration needs it.
+  const Run mplain = run("modified_newton", "line_search = 0");
+  const Run msearched = run("modified_newton", "line_search = 8");
+  REQUIRE(mplain.rep.outcome.ok());
+  REQUIRE(msearched.rep.outcome.ok());
+  CHECK(mplain.u[9] == Approx(u_end).epsilon(1e-10));
+  CHECK(msearched.u == mplain.u);
+  CHECK(msearched.rep.residual_norms == mplain.rep.residual_norms);
+  CHECK(msearched.points.size() == msearched.rep.residual_norms.size());
+  CHECK(msearched.tangents == 2);
+}
