@@ -93,6 +93,45 @@ TEST_CASE("P1 Hill thick cylinder: limit pressure, plastic radius and Newton ord
   CHECK(over->model().lambda * 1.01 > 0.98);
 }
 
+TEST_CASE("P1 Hill thick cylinder with Tresca: u_b on the closed form it is exact for", "[verification]") {
+  // The closed form is Tresca's (sigma_z stays the intermediate principal stress, so the
+  // ring outside the plastic radius c is an elastic cylinder under (Y/2)(1 - c^2/b^2)).
+  // Tresca is Mohr-Coulomb at phi -> 0: phi = 1e-4 deg moves the strength by at most
+  // sin(phi) |sigma_m| / k < 2e-6 here (|sigma_m| <= P_lim), far below the tolerance.
+  const double a = 0.1, b = 0.2, E = 2.1e8, nu = 0.3, k = 2.4e5 / std::sqrt(3.0);
+  const double Y = 2 * k, p_lim = Y * std::log(b / a);
+  std::string text = read(std::string(STRATUM_SOURCE_DIR) + "/inputs/verification/hill_cylinder.toml");
+  text = replace(text, "model = \"von_mises\"", "model = \"mohr_coulomb\"");
+  text = replace(text,
+                 "sigma_y = 2.4e5               # kPa\nH = 0.0                       # perfectly plastic\n"
+                 "integrator = \"closest_point\"  # backward Euler return with the consistent tangent\n",
+                 "c = " + std::to_string(k) + "\nphi = 1e-4\npsi = 1e-4\n");
+  for (double frac : {0.5, 0.7, 0.9, 0.99}) {
+    const double Pf = frac * p_lim;
+    auto run = stratum::testing::scene(replace(text, "p = 190170.0", "p = " + std::to_string(Pf)),
+                                       "hill_tresca.toml");
+    const auto s = run->run();
+    INFO(s.outcome.message);
+    REQUIRE(s.outcome.ok());
+    double ub_exact = 0;
+    if (Pf <= 0.5 * Y * (1 - a * a / (b * b))) {
+      ub_exact = 2 * Pf * b * (1 - nu * nu) / (E * (b * b / (a * a) - 1));
+    } else {
+      double lo = a, hi = b;
+      for (int i = 0; i < 200; ++i) {
+        const double c = 0.5 * (lo + hi);
+        (Y * (std::log(c / a) + 0.5 * (1 - c * c / (b * b))) < Pf ? lo : hi) = c;
+      }
+      const double c = 0.5 * (lo + hi);
+      ub_exact = Y * c * c * (1 - nu * nu) / (E * b);
+    }
+    const double ub = run->model().u[2 * node_at(run->model(), b, 0.0)];
+    INFO(frac << " P_lim: u_b = " << ub << ", closed form " << ub_exact << ", relative error "
+              << std::abs(ub - ub_exact) / ub_exact);
+    CHECK(std::abs(ub - ub_exact) / ub_exact < 1e-3);
+  }
+}
+
 TEST_CASE("P4 smooth strip footing on von Mises soil reaches (2 + pi) k", "[verification]") {
   const double k = 173.205080757 / std::sqrt(3.0); // plane-strain shear strength, 100 kPa
   const double q_lim = (2 + std::numbers::pi) * k;
