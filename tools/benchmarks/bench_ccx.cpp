@@ -7,6 +7,8 @@
 //  * hill: Hill's thick cylinder of inputs/verification/hill_cylinder.toml made axisymmetric
 //    (a = 0.1, b = 0.2, height 0.05, E = 2.1e8, nu = 0.3, sigma_y = 2.4e5, perfectly plastic
 //    von Mises), loaded in equal increments to 0.9 of the limit pressure Y ln(b/a);
+//  * lame_ps: the same Lamé ring in plane strain, a quarter ring meshed in polar coordinates,
+//    CPE8 in ccx: a plane element ccx expands without an angle about an axis;
 //  * tresca: the same Hill cylinder with Tresca (Mohr-Coulomb at phi = 1e-4 deg, c = Y/2), the
 //    material the closed form is exact for; Stratum only (ccx has no Tresca material).
 // Both are meshed with nx x nx/2 square quad8 cells (3x3 Gauss, the full integration of
@@ -34,6 +36,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -57,7 +60,7 @@ constexpr double elastic_agreement = 1e-6; ///< relative difference of the displ
 constexpr double plastic_agreement = 1e-3; ///< relative difference of u(b), Hill, to ccx and closed form
 constexpr double hill_load_fraction = 0.9; ///< of the limit pressure
 
-enum class Problem { lame, hill };
+enum class Problem { lame, lame_plane, hill };
 
 /// The data of one problem (units kN, m, kPa).
 struct Spec {
@@ -67,6 +70,8 @@ struct Spec {
   int steps = 1;
 
   [[nodiscard]] bool plastic() const { return problem == Problem::hill; }
+  /// Plane strain on a quarter ring (x = r cos theta, y = r sin theta) instead of axisymmetric.
+  [[nodiscard]] bool plane() const { return problem == Problem::lame_plane; }
   /// Y = 2 sigma_y / sqrt(3): the plane-strain yield stress of Hill's solution.
   [[nodiscard]] double yield_y() const { return 2.0 * sigma_y / std::sqrt(3.0); }
   [[nodiscard]] double limit_pressure() const { return yield_y() * std::log(b / a); }
@@ -83,6 +88,13 @@ Spec lame_spec() {
   s.poisson = 0.3;
   s.pressure = 1.0;
   s.steps = 1;
+  return s;
+}
+
+Spec lame_plane_spec() {
+  Spec s = lame_spec();
+  s.problem = Problem::lame_plane;
+  s.name = "lame_ps";
   return s;
 }
 
@@ -145,7 +157,8 @@ struct Size {
   int nx = 0, ny = 0;
 };
 
-/// Free unknowns of an nx x nx/2 quad8 mesh with u_z fixed on top and bottom.
+/// Free unknowns of an nx x nx/2 quad8 mesh with u_z fixed on top and bottom (the same count for the
+/// quarter ring with u_y fixed at theta = 0 and u_x at theta = 90 deg).
 long long free_dofs(long long nx) { return 3 * nx * nx + 2 * nx; }
 
 Size size_for(double target) {
@@ -158,12 +171,14 @@ std::string scene_text(const Spec& p, const Size& s) {
   std::ostringstream t;
   t.precision(17);
   t << "title = \"bench_ccx: " << p.name << " " << s.nx << " x " << s.ny << " quad8\"\n"
-    << "[analysis]\nformulation = \"axisymmetric\"\nsolver = \"newton\"\nlinear_solver = \"auto\"\nthreads = "
+    << "[analysis]\nformulation = \"" << (p.plane() ? "plane_strain" : "axisymmetric")
+    << "\"\nsolver = \"newton\"\nlinear_solver = \"auto\"\nthreads = "
        "1\nsteps = "
     << p.steps << "\nmax_cutbacks = 0\n"
     << "[mesh]\ngenerator = \"blocks\"\nnodes_per_cell = 8\n"
-    << "[[mesh.blocks]]\nname = \"ring\"\nx = [" << p.a << ", " << p.b << "]\ny = [0.0, " << p.height
-    << "]\nnx = " << s.nx << "\nny = " << s.ny << "\n";
+    << (p.plane() ? "transform = \"polar\"\n" : "") << "[[mesh.blocks]]\nname = \"ring\"\nx = [" << p.a
+    << ", " << p.b << "]\ny = [0.0, " << (p.plane() ? 90.0 : p.height) << "]\nnx = " << s.nx
+    << "\nny = " << s.ny << "\n";
   if (p.plastic())
     t << "[materials.steel]\nmodel = \"von_mises\"\nE = " << p.young << "\nnu = " << p.poisson
       << "\nsigma_y = " << p.sigma_y << "\nH = 0.0\nintegrator = \"closest_point\"\n";
@@ -171,7 +186,8 @@ std::string scene_text(const Spec& p, const Size& s) {
     t << "[materials.steel]\nmodel = \"linear_elastic\"\nE = " << p.young << "\nnu = " << p.poisson << "\n";
   t << "[[domains]]\ncells = \"ring\"\nelement = \"quad\"\nmaterial = \"steel\"\nintegration = 3\n"
     << "[[constraints]]\nnodes = \"bottom\"\nuy = 0.0\n"
-    << "[[constraints]]\nnodes = \"top\"\nuy = 0.0\n"
+    << "[[constraints]]\nnodes = \"top\"\n"
+    << (p.plane() ? "ux" : "uy") << " = 0.0\n"
     << "[[loads]]\ntype = \"pressure\"\nedges = \"ring.left\"\np = " << p.pressure << "\n"
     << "[output]\nvtk = false\n";
   return t.str();
@@ -247,26 +263,49 @@ const std::vector<int>& node_set(const stratum::Mesh& m, const std::string& name
   return it->second;
 }
 
+/// A number as ccx reads it: its input fields hold at most 20 characters, so the 17 significant
+/// digits that round-trip a double are shortened where a sign and an exponent need the room
+/// (e.g. the 6e-17 that cos(90 deg) leaves in the polar map).
+std::string ccx_number(double v) {
+  char buf[64];
+  for (int digits = 17; digits > 1; --digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    if (std::strlen(buf) <= 20) break;
+  }
+  return buf;
+}
+
 /// The ccx input of the same problem on Stratum's mesh: CAX8 (ccx's corner and midside order
 /// is Stratum's slot order), u_z = 0 on top and bottom, the pressure as *DLOAD on the faces of
-/// r = a; *NODE PRINT U and *EL PRINT S of the last increment only.
+/// r = a; *NODE PRINT U and *EL PRINT S of the last increment only. Plane strain (lame_ps): CPE8
+/// (unit thickness, ccx's default), u_y = 0 at theta = 0 and u_x = 0 at theta = 90 deg.
 void write_ccx_input(const stratum::Model& m, const Spec& p, const fs::path& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw stratum::Error("bench_ccx: cannot write " + path.string());
   std::fprintf(f, "** bench_ccx: %s, written from Stratum's mesh\n*NODE,NSET=NALL\n", p.name);
   for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
-    std::fprintf(f, "%zu,%.17g,%.17g\n", n + 1, m.mesh.nodes[n].x(), m.mesh.nodes[n].y());
-  std::fprintf(f, "*ELEMENT,TYPE=CAX8,ELSET=EALL\n");
+    std::fprintf(f, "%zu,%s,%s\n", n + 1, ccx_number(m.mesh.nodes[n].x()).c_str(),
+                 ccx_number(m.mesh.nodes[n].y()).c_str());
+  std::fprintf(f, "*ELEMENT,TYPE=%s,ELSET=EALL\n", p.plane() ? "CPE8" : "CAX8");
   for (std::size_t c = 0; c < m.mesh.cells.size(); ++c) {
     const auto& nd = m.mesh.cells[c].nodes;
     if (m.mesh.cells[c].count() != 8) throw stratum::Error("bench_ccx: a cell is not a quad8");
     std::fprintf(f, "%zu,%d,%d,%d,%d,%d,%d,%d,%d\n", c + 1, nd[0] + 1, nd[1] + 1, nd[2] + 1, nd[3] + 1,
                  nd[4] + 1, nd[5] + 1, nd[6] + 1, nd[7] + 1);
   }
-  std::fprintf(f, "*NSET,NSET=NFIXZ\n");
-  for (const char* set : {"bottom", "top"})
-    for (int n : node_set(m.mesh, set)) std::fprintf(f, "%d\n", n + 1);
-  std::fprintf(f, "*BOUNDARY\nNFIXZ,2,2\n*MATERIAL,NAME=STEEL\n*ELASTIC\n%.17g,%.17g\n", p.young, p.poisson);
+  if (p.plane()) {
+    std::fprintf(f, "*NSET,NSET=NFIXY\n");
+    for (int n : node_set(m.mesh, "bottom")) std::fprintf(f, "%d\n", n + 1);
+    std::fprintf(f, "*NSET,NSET=NFIXX\n");
+    for (int n : node_set(m.mesh, "top")) std::fprintf(f, "%d\n", n + 1);
+    std::fprintf(f, "*BOUNDARY\nNFIXY,2,2\nNFIXX,1,1\n");
+  } else {
+    std::fprintf(f, "*NSET,NSET=NFIXZ\n");
+    for (const char* set : {"bottom", "top"})
+      for (int n : node_set(m.mesh, set)) std::fprintf(f, "%d\n", n + 1);
+    std::fprintf(f, "*BOUNDARY\nNFIXZ,2,2\n");
+  }
+  std::fprintf(f, "*MATERIAL,NAME=STEEL\n*ELASTIC\n%.17g,%.17g\n", p.young, p.poisson);
   if (p.plastic()) std::fprintf(f, "*PLASTIC\n%.17g,0.0\n", p.sigma_y);
   std::fprintf(f, "*SOLID SECTION,ELSET=EALL,MATERIAL=STEEL\n");
   if (p.plastic())
@@ -405,6 +444,17 @@ double mean_ur(const std::vector<double>& u, const std::vector<int>& nodes) {
   return s / static_cast<double>(nodes.size());
 }
 
+/// Plane strain quarter ring: the mean radial displacement (u . x / |x|) over the nodes.
+double mean_radial(const std::vector<double>& u, const stratum::Mesh& mesh, const std::vector<int>& nodes) {
+  double s = 0;
+  for (int n : nodes) {
+    const auto k = static_cast<std::size_t>(n);
+    const double x = mesh.nodes[k].x(), y = mesh.nodes[k].y();
+    s += (u[2 * k] * x + u[2 * k + 1] * y) / std::hypot(x, y);
+  }
+  return s / static_cast<double>(nodes.size());
+}
+
 double max_abs(const std::vector<double>& v) {
   double m = 0;
   for (double x : v) m = std::max(m, std::abs(x));
@@ -450,10 +500,13 @@ Sample measure(const Spec& p, const Size& s, const Options& o, const fs::path& d
   r.ds = max_diff(theirs.stress, mine.stress) / max_abs(mine.stress);
   const auto& left = node_set(m.mesh, "ring.left");
   const auto& right = node_set(m.mesh, "ring.right");
-  r.u_a = mean_ur(mine.u, left);
-  r.u_a_ccx = mean_ur(theirs.u, left);
-  r.u_b = mean_ur(mine.u, right);
-  r.u_b_ccx = mean_ur(theirs.u, right);
+  auto ur = [&](const std::vector<double>& u, const std::vector<int>& nodes) {
+    return p.plane() ? mean_radial(u, m.mesh, nodes) : mean_ur(u, nodes);
+  };
+  r.u_a = ur(mine.u, left);
+  r.u_a_ccx = ur(theirs.u, left);
+  r.u_b = ur(mine.u, right);
+  r.u_b_ccx = ur(theirs.u, right);
   // Stratum's split (not part of its time above): one assembly with the tangent at the converged
   // state and one analyze + factorize of it, the cost of a Newton iteration.
   {
@@ -701,6 +754,13 @@ std::string targets(const std::vector<Row>& rows, const std::vector<TrescaRow>& 
   } else {
     s << "- Elastic, 1e5 DOF: not measured in this run.\n";
   }
+  const Row* ps = find_row(rows, Problem::lame_plane, 1e5);
+  if (!ps) ps = find_row(rows, Problem::lame_plane, 1e4);
+  if (ps)
+    s << "- Elastic in plane strain (CPE8, no expansion angle in ccx), " << grouped(ps->med.free)
+      << " DOF: displacements equal within 1e-6 relative: **"
+      << (ps->med.du <= elastic_agreement ? "met" : "NOT met") << "** (largest nodal difference "
+      << sci(ps->med.du) << "; Stratum / ccx time ratio " << fixed(ps->ratio, 3) << ").\n";
   const Row* h = find_row(rows, Problem::hill, 1e5);
   if (!h) h = find_row(rows, Problem::hill, 1e4);
   if (h) {
@@ -730,7 +790,8 @@ std::string targets(const std::vector<Row>& rows, const std::vector<TrescaRow>& 
 std::string limits(const std::vector<Row>& rows, const std::vector<TrescaRow>& tresca) {
   std::ostringstream s;
   std::vector<const Row*> lame, hill;
-  for (const auto& r : rows) (r.spec.plastic() ? hill : lame).push_back(&r);
+  for (const auto& r : rows)
+    if (r.spec.problem != Problem::lame_plane) (r.spec.plastic() ? hill : lame).push_back(&r);
   bool ccx_off = !lame.empty();
   for (const Row* r : lame) {
     const double mine = rel(r->med.u_a, exact_reference(r->spec)),
@@ -752,6 +813,22 @@ std::string limits(const std::vector<Row>& rows, const std::vector<TrescaRow>& t
       s << " ccx's error does not shrink as the mesh is refined, which fits its CAX8 being expanded into 3D "
            "elements spanning a fixed angle about the axis (its manual: the expansion angle is fixed): a "
            "modelling offset of ccx, so no change of Stratum brings the two within 1e-6.";
+    std::vector<const Row*> plane;
+    for (const auto& r : rows)
+      if (r.spec.plane()) plane.push_back(&r);
+    if (!plane.empty()) {
+      s << " On the same ring in plane strain (CPE8, which ccx expands by a thickness, not an angle) the "
+           "largest nodal difference is ";
+      for (std::size_t i = 0; i < plane.size(); ++i)
+        s << (i ? ", " : "") << sci(plane[i]->med.du) << " at " << grouped(plane[i]->med.free) << " DOF";
+      s << " and ccx's u(a) is off the closed form by ";
+      for (std::size_t i = 0; i < plane.size(); ++i)
+        s << (i ? ", " : "") << sci(rel(plane[i]->med.u_a_ccx, exact_reference(plane[i]->spec)));
+      s << " (Stratum ";
+      for (std::size_t i = 0; i < plane.size(); ++i)
+        s << (i ? ", " : "") << sci(rel(plane[i]->med.u_a, exact_reference(plane[i]->spec)));
+      s << ").";
+    }
     s << "\n";
   }
   for (std::size_t i = 0; i < rows.size(); ++i)
@@ -814,7 +891,12 @@ std::string section(const std::vector<Row>& rows, const std::vector<TrescaRow>& 
        "the equation count it prints equals Stratum's free DOF). u_z = 0 on top and bottom, the pressure on "
        "r = a (ccx: `*DLOAD` on the element faces). "
        "*lame*: a = 1, b = 2, height 0.5, E = 1000, nu = 0.3, p = 1, closed form u(a) = "
-    << sci(lame_u(lame, lame.a), 6) << " m. *hill*: a = 0.1, b = 0.2, height 0.05, E = 2.1e8, nu = 0.3, "
+    << sci(lame_u(lame, lame.a), 6)
+    << " m. *lame_ps*: the same ring in plane strain, a quarter ring of nx (radial) x nx/2 (angular) "
+       "cells mapped to polar coordinates (midside nodes on the arcs; the same free DOF count), u_y = 0 at "
+       "theta = 0 and u_x = 0 at theta = 90 deg, ccx's CPE8 (unit thickness); u(a) is the mean radial "
+       "displacement of r = a, with the same closed form. *hill*: a = 0.1, b = 0.2, height 0.05, E = 2.1e8, "
+       "nu = 0.3, "
     << "von Mises sigma_y = 2.4e5 perfectly plastic (ccx `*PLASTIC` with one point, small-strain since no "
        "NLGEOM), p = 0.9 P_lim = "
     << fixed(hill.pressure, 0) << " kPa in " << hill.steps
@@ -909,7 +991,7 @@ int main(int argc, char** argv) {
   std::vector<Row> rows;
   std::vector<TrescaRow> tresca;
   try {
-    for (const Spec& p : {lame_spec(), hill_spec()}) {
+    for (const Spec& p : {lame_spec(), lame_plane_spec(), hill_spec()}) {
       const double max_dof = p.plastic() ? opt.hill_max_dof : opt.max_dof;
       const int repeat = p.plastic() ? opt.hill_repeat : opt.repeat;
       for (double target : {1e4, 1e5}) {
