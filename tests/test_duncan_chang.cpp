@@ -658,6 +658,92 @@ TEST_CASE("duncan_chang: the explicit update's closed-form tangent in every regi
   }
 }
 
+TEST_CASE("duncan_chang: branch = step_start decides E_ur or E_t by the step's start state",
+          "[duncan_chang]") {
+  // The classical load-step rule (digest 3.3: E_ur "whenever F_sr is below the values reached there
+  // before", read at the state the step starts from): the branch ignores the increment, so the update
+  // is linear in it and every iterate of a step uses the same moduli.
+  const dc::Set a = loess_a();
+  dc::Constants c = constants(dc::Update::explicit_step);
+  c.branch = dc::Branch::step_start;
+  const dc::DuncanChang m(c);
+  const dc::DuncanChang by_increment(constants(dc::Update::explicit_step));
+  const double q = 0.5 * q_f(a, 100.0);
+  Vec6 s = triaxial_stress(100.0, q);
+  s[2] -= 0.2 * q; // sigma_2 != sigma_3: away from the kink of the minor principal stress
+  const Vec6 de = (Vec6() << 2e-4, -7.5e-4, 1.5e-4, 1e-4, -5e-5, 3e-5).finished();
+  const Mat6 D_t = m.explicit_stiffness(m.point(s), 0.0), D_ur = m.explicit_stiffness(m.point(s), 1.0);
+  const double tol = 1e-12 * s.cwiseAbs().maxCoeff();
+
+  // At its maximum: E_t for an unloading increment too (the increment rule takes E_ur there).
+  const std::vector<double> at_max = hist(m.point(s).S, m.point(s).q);
+  {
+    const Result r = update(m, s, Vec6::Zero(), at_max, Vec6(-de));
+    REQUIRE(r.o.ok());
+    CHECK((r.stress - (s - D_t * de)).cwiseAbs().maxCoeff() < tol);
+    CHECK((r.tangent - D_t).cwiseAbs().maxCoeff() == 0.0);
+    CHECK(tangent_error(m, s, Vec6::Zero(), at_max, Vec6(-de)) < 1e-6);
+    const Result ri = update(by_increment, s, Vec6::Zero(), at_max, Vec6(-de));
+    CHECK((ri.stress - (s - D_ur * de)).cwiseAbs().maxCoeff() < tol);
+  }
+  // Below its maximum: E_ur for the whole of a loading increment that crosses the maximum (the
+  // increment rule splits it and ends on E_t).
+  const std::vector<double> below = hist(m.point(s).S * 1.002, m.point(s).q * 1.002);
+  {
+    const Result r = update(m, s, Vec6::Zero(), below, de);
+    REQUIRE(r.o.ok());
+    CHECK((r.stress - (s + D_ur * de)).cwiseAbs().maxCoeff() < tol);
+    CHECK((r.tangent - D_ur).cwiseAbs().maxCoeff() == 0.0);
+    CHECK(m.point(r.stress).S > below[0]); // it did cross the maximum
+    CHECK(tangent_error(m, s, Vec6::Zero(), below, de) < 1e-6);
+    const Result ri = update(by_increment, s, Vec6::Zero(), below, de);
+    CHECK((ri.stress - (s + D_ur * de)).cwiseAbs().maxCoeff() > 1e-3 * (D_ur * de).cwiseAbs().maxCoeff());
+    // The history records the new maximum either way.
+    CHECK(r.h[0] == Approx(m.point(r.stress).S).epsilon(1e-12));
+  }
+  // Linear in the increment (no cut-off acting): doubling and reversing it scale the change.
+  for (const auto& h : {at_max, below}) {
+    const Vec6 d1 = update(m, s, Vec6::Zero(), h, de).stress - s;
+    const Vec6 d2 = update(m, s, Vec6::Zero(), h, Vec6(2.0 * de)).stress - s;
+    const Vec6 dm = update(m, s, Vec6::Zero(), h, Vec6(-de)).stress - s;
+    CHECK((d2 - 2.0 * d1).cwiseAbs().maxCoeff() < tol);
+    CHECK((dm + d1).cwiseAbs().maxCoeff() < tol);
+  }
+
+  // On a monotonic drained triaxial path every point loads at its maximum: the two readings agree.
+  {
+    const double emax = 0.9 * q_f(a, 100.0) / (E_i(a, 100.0) * (1.0 - 0.9 * a.R_f));
+    const auto inc = run_point(point_file(loess_a_toml + "update = \"explicit\"\n", 100.0, emax, 50));
+    const auto st = run_point(
+        point_file(loess_a_toml + "update = \"explicit\"\nbranch = \"step_start\"\n", 100.0, emax, 50));
+    REQUIRE(inc.outcome.ok());
+    REQUIRE(st.outcome.ok());
+    REQUIRE(inc.rows.size() == st.rows.size());
+    for (std::size_t i = 0; i < inc.rows.size(); ++i) CHECK(q_of(st.rows[i]) == q_of(inc.rows[i]));
+  }
+
+  // TOML: the rule belongs to the explicit update.
+  stratum::Schema schema;
+  dc::declare(schema, dc::Family::duncan_chang);
+  const std::string base =
+      "K = 500\nn = 0.82\nR_f = 0.8\nphi = 26\nc = 10\nK_ur = 800\nG = 0.18\nF = 0.22\nd = 20\n";
+  auto read = [&](const std::string& text) {
+    const toml::table t = toml::parse(text, std::string("m.toml"));
+    return dc::read(stratum::io::check_table(t, schema, "[material]"), dc::Family::duncan_chang);
+  };
+  CHECK(read(base).branch == dc::Branch::increment);
+  CHECK(read(base + "update = \"explicit\"\nbranch = \"step_start\"\n").branch == dc::Branch::step_start);
+  std::string msg = "(no error)";
+  try {
+    (void)read(base + "branch = \"step_start\"\n");
+  } catch (const stratum::Error& e) {
+    msg = e.what();
+  }
+  CHECK(msg ==
+        "m.toml:10:10 [material] branch = \"step_start\" belongs to update = \"explicit\" (one step per "
+        "increment); the substepped updates decide the branch per substep");
+}
+
 TEST_CASE("variable_kg: K from E_i, G from E_t on a drained triaxial path", "[variable_kg]") {
   // At constant sigma_3: p = sigma_3 + q/3 with K = E_i/(3(1 - 2 nu)) constant, so eps_v = q/(3K);
   // d eps_s = dq/(3 G_t), G_t = E_i (1 - R_f q/q_f)^2 / (2(1 + nu)), so

@@ -23,6 +23,8 @@ namespace stratum::duncan_chang {
 enum class Form { E_nu, E_B, K_G };
 enum class Update { recovery, incremental, explicit_step };
 enum class Unloading { F_sr, max_deviator };
+/// How the explicit update picks the E_ur or the E_t branch (`branch`).
+enum class Branch { increment, step_start };
 enum class BulkStress { sigma_m, sigma_3 };
 
 /// One parameter set of the hyperbolic model (angles in degrees, stresses in kPa).
@@ -51,6 +53,7 @@ struct Constants {
   Form form = Form::E_nu;
   Update update = Update::incremental;
   Unloading unloading = Unloading::F_sr;
+  Branch branch = Branch::increment; ///< explicit update only
   BulkStress bulk_stress = BulkStress::sigma_m;
   double p_a = 100.0;
   double nu_min = 0.0, nu_max = 0.49;
@@ -350,15 +353,21 @@ public:
         alpha = rec.alpha[static_cast<std::size_t>(k)];
       else {
         const Point p0 = point(s);
-        const Moduli mu = moduli(p0, true);
         const double cmax = criterion_max(h), c0 = criterion(p0);
-        const double ct = criterion(point(s + stiffness_kg(mu.K, mu.G) * dd));
-        if (below(ct, cmax))
-          alpha = 1.0;
-        else if (below(c0, cmax) && ct > c0)
-          alpha = std::clamp((cmax - c0) / (ct - c0), 0.0, 1.0);
-        else
-          alpha = 0.0;
+        if (c_.branch == Branch::step_start) {
+          // The classical load-step rule: the branch of the state at the step's start, whatever
+          // the increment; the update is then linear in the increment over all iterations.
+          alpha = below(c0, cmax) ? 1.0 : 0.0;
+        } else {
+          const Moduli mu = moduli(p0, true);
+          const double ct = criterion(point(s + stiffness_kg(mu.K, mu.G) * dd));
+          if (below(ct, cmax))
+            alpha = 1.0;
+          else if (below(c0, cmax) && ct > c0)
+            alpha = std::clamp((cmax - c0) / (ct - c0), 0.0, 1.0);
+          else
+            alpha = 0.0;
+        }
         rec.alpha[static_cast<std::size_t>(k)] = alpha;
       }
       if (c_.update == Update::explicit_step) {

@@ -32,6 +32,11 @@ inline void declare(Schema& s, Family fam) {
            "substepped tangent integration; explicit: one forward-Euler step with the moduli of the "
            "step's start (the classical load-step method)")
         .defaults_to(std::string("incremental"));
+    s.text("branch", {"increment", "step_start"},
+           "explicit update: increment = E_ur when the increment's E_ur trial stays below the criterion's "
+           "maximum (split where it crosses it); step_start = E_ur when the step's start state is below "
+           "its maximum, else E_t, for every iterate of the step (the classical load-step rule)")
+        .defaults_to(std::string("increment"));
   }
   s.text("unloading", {"F_sr", "max_deviator"},
          "unload/reload with E_ur when the stress level F_sr (4.50) or the deviator is below its maximum so "
@@ -122,6 +127,7 @@ inline Constants read(const Params& p, Family fam) {
     c.update = up == "recovery"   ? Update::recovery
                : up == "explicit" ? Update::explicit_step
                                   : Update::incremental;
+    c.branch = p.text("branch") == "step_start" ? Branch::step_start : Branch::increment;
     c.bulk_stress = p.text("bulk_stress") == "sigma_3" ? BulkStress::sigma_3 : BulkStress::sigma_m;
     c.nu_max = p.real("nu_max");
     c.nu_min = p.real("nu_min");
@@ -185,6 +191,9 @@ inline Constants read(const Params& p, Family fam) {
     if (v.empty()) continue;
     for (std::size_t i = 0; i < N; ++i) c.sets[i].*mem = v.size() == 1 ? v[0] : v[i];
   }
+  if (c.branch == Branch::step_start && c.update != Update::explicit_step)
+    fail("branch", "branch = \"step_start\" belongs to update = \"explicit\" (one step per increment); the "
+                   "substepped updates decide the branch per substep");
   if (c.update == Update::recovery) {
     if (c.form != Form::E_nu)
       fail("update", "update = \"recovery\" needs form = \"E_nu\": the recovery (4.49) inverts the "
