@@ -41,7 +41,10 @@ def scene_text(name, steps, force, solver="newton", update=None, rtol=None, vtk=
     t = re.sub(r'(?m)^solver = "newton"', f'solver = "{solver}"', t)
     if solver != "newton":  # [solver] line_search belongs to newton's parameters
         t = re.sub(r"(?m)^\[solver\]\nline_search = \d+\n", "", t)
-    if update:
+    if update and name == "cap":  # the cap's integrator
+        t, n = re.subn(r'(?m)^integration = "closest_point".*$', f'integration = "{update}"', t)
+        assert n == 1, "cap.toml: no integration line"
+    elif update:
         t = re.sub(r'(?m)^update = "explicit".*$', f'update = "{update}"', t)
     if rtol:
         t = re.sub(r"(?m)^force_rtol = .*$", f"force_rtol = {rtol}", t)
@@ -156,11 +159,12 @@ def main():
                   "before 105 kN.\n")
         steps_list = [2, 6, 24] if a.quick else [2, 4, 8, 24, 48]
         variants = []
-        updates = ["explicit", "incremental"] if name == "hypoelastic" else [None]
+        # the other updates / integrators, each at the step counts given (they are slower or fail)
+        updates = ["explicit", "incremental", "recovery"] if name == "hypoelastic" else [None, "sandler_rubin"]
         for rtol in (["1e-5"] if a.quick else ["1e-3", "1e-5", "1e-7"]):
             for n in steps_list:
                 variants.append(("newton", updates[0], rtol, n))
-        for upd in updates[1:]:  # the substepped update costs ~10x per step: two step counts
+        for upd in updates[1:]:  # substepped or thesis algorithms, ~10x per step or failing: two counts
             for n in steps_list[1:3]:
                 variants.append(("newton", upd, "1e-5", n))
         for solver in ["modified_newton", "kinsol"]:
