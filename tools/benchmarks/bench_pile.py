@@ -83,8 +83,12 @@ def run(exe, text, repeat=1, timeout=None):
                 a, b = line.split(",")
                 curve.append((float(a), float(b)))
     prof = next((l for l in out.splitlines() if l.startswith("time:")), "")
-    stopped = "stopped:" in out
-    return True, curve, statistics.median(walls), prof, "stopped early" if stopped else ""
+    stopped = next((l for l in out.splitlines() if l.startswith("stopped:")), "")
+    note = ""
+    if stopped:  # where and why the run ended before its load: the last converged level, the reason
+        reason = stopped[len("stopped:"):].split("(")[0].strip()
+        note = f"stopped at {curve[-1][0]:.4g} (last converged load): {reason}" if curve else f"stopped: {reason}"
+    return True, curve, statistics.median(walls), prof, note
 
 
 def at_load(curve, load):
