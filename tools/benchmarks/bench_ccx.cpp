@@ -167,7 +167,12 @@ Size size_for(double target) {
   return {target, nx, nx / 2};
 }
 
-std::string scene_text(const Spec& p, const Size& s) {
+/// Tresca as Mohr-Coulomb at phi -> 0: c = Y/2 and phi = psi = 1e-4 deg, which moves the strength
+/// by at most sin(phi) |sigma_m| / c < 2e-6 of it here (|sigma_m| < P_lim < 1.4 c).
+constexpr double tresca_phi = 1e-4;
+
+/// The scene of a problem; `tresca` swaps the Hill cylinder's von Mises for Tresca (Stratum only).
+std::string scene_text(const Spec& p, const Size& s, bool tresca = false) {
   std::ostringstream t;
   t.precision(17);
   t << "title = \"bench_ccx: " << p.name << " " << s.nx << " x " << s.ny << " quad8\"\n"
@@ -179,7 +184,10 @@ std::string scene_text(const Spec& p, const Size& s) {
     << (p.plane() ? "transform = \"polar\"\n" : "") << "[[mesh.blocks]]\nname = \"ring\"\nx = [" << p.a
     << ", " << p.b << "]\ny = [0.0, " << (p.plane() ? 90.0 : p.height) << "]\nnx = " << s.nx
     << "\nny = " << s.ny << "\n";
-  if (p.plastic())
+  if (p.plastic() && tresca)
+    t << "[materials.steel]\nmodel = \"mohr_coulomb\"\nE = " << p.young << "\nnu = " << p.poisson
+      << "\nc = " << 0.5 * p.yield_y() << "\nphi = " << tresca_phi << "\npsi = " << tresca_phi << "\n";
+  else if (p.plastic())
     t << "[materials.steel]\nmodel = \"von_mises\"\nE = " << p.young << "\nnu = " << p.poisson
       << "\nsigma_y = " << p.sigma_y << "\nH = 0.0\nintegrator = \"closest_point\"\n";
   else
@@ -531,25 +539,6 @@ Sample measure(const Spec& p, const Size& s, const Options& o, const fs::path& d
   return r;
 }
 
-/// Tresca as Mohr-Coulomb at phi -> 0: c = Y/2 and phi = psi = 1e-4 deg, which moves the strength
-/// by at most sin(phi) |sigma_m| / c < 2e-6 of it here (|sigma_m| < P_lim < 1.4 c).
-constexpr double tresca_phi = 1e-4;
-
-std::string tresca_scene(const Size& s) {
-  const Spec p = hill_spec();
-  std::string t = scene_text(p, s);
-  std::ostringstream vm, mc;
-  vm.precision(17);
-  mc.precision(17);
-  vm << "model = \"von_mises\"\nE = " << p.young << "\nnu = " << p.poisson << "\nsigma_y = " << p.sigma_y
-     << "\nH = 0.0\nintegrator = \"closest_point\"\n";
-  mc << "model = \"mohr_coulomb\"\nE = " << p.young << "\nnu = " << p.poisson << "\nc = " << 0.5 * p.yield_y()
-     << "\nphi = " << tresca_phi << "\npsi = " << tresca_phi << "\n";
-  const auto at = t.find(vm.str());
-  if (at == std::string::npos) throw stratum::Error("bench_ccx: no von Mises block to replace");
-  return t.replace(at, vm.str().size(), mc.str());
-}
-
 /// Hill's cylinder with Tresca, Stratum only: u(b) against the closed form that is exact for it.
 struct TrescaRow {
   Size size;
@@ -566,7 +555,8 @@ TrescaRow measure_tresca(const Size& s, const Options& o) {
   ro.plugin_dirs = {o.plugin_dir};
   ro.write_output = false;
   const auto t = Clock::now();
-  auto analysis = stratum::Analysis::from_string(tresca_scene(s), "bench_ccx_tresca.toml", std::move(ro));
+  auto analysis = stratum::Analysis::from_string(scene_text(hill_spec(), s, true), "bench_ccx_tresca.toml",
+                                                 std::move(ro));
   const stratum::RunSummary summary = analysis->run();
   r.run = seconds_since(t);
   if (!summary.outcome.ok())
