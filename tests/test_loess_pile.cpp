@@ -38,22 +38,28 @@ int sh(const std::string& cmd) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-} // namespace
-
-TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_pile][cli]") {
-  const fs::path dir = fs::temp_directory_path() / ("stratum_loess_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+// The default scene on a coarse mesh, its head loaded to `force` kN in `steps` steps.
+std::string coarse_scene(const std::string& steps, const std::string& force) {
   std::string scene = slurp(fs::path(STRATUM_SOURCE_DIR) / "inputs/loess_pile/hypoelastic.toml");
   replace(scene, "n_shaft = 12", "n_shaft = 6");
   replace(scene, "n_near = 8", "n_near = 4");
   replace(scene, "n_far = 5", "n_far = 2");
   replace(scene, "n_below = 6", "n_below = 3");
   replace(scene, "n_deep = 3", "n_deep = 1");
-  replace(scene, "steps = 60 ", "steps = 2 ");
-  replace(scene, "force = 150.0", "force = 10.0");
-  std::ofstream(dir / "pile.toml") << scene;
-  const std::string exe = std::string("STRATUM_PLUGIN_PATH=") + STRATUM_PLUGIN_DIR + " " + STRATUM_EXE;
+  replace(scene, "steps = 60 ", "steps = " + steps + " ");
+  replace(scene, "force = 150.0", "force = " + force);
+  return scene;
+}
+
+const std::string exe = std::string("STRATUM_PLUGIN_PATH=") + STRATUM_PLUGIN_DIR + " " + STRATUM_EXE;
+
+} // namespace
+
+TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_pile][cli]") {
+  const fs::path dir = fs::temp_directory_path() / ("stratum_loess_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "pile.toml") << coarse_scene("2", "10.0");
   // tools/run itself, on this build tree (it builds nothing here: the tree is up to date).
   const bool plots = sh("/usr/bin/python3 -c 'import matplotlib' 2>/dev/null") == 0;
   REQUIRE(sh("cd " + dir.string() + " && STRATUM_BUILD=" + STRATUM_BINARY_DIR + " " + STRATUM_SOURCE_DIR +
@@ -139,5 +145,33 @@ TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_
       CHECK(fs::file_size(dir / "zone.png") > 1000);
     }
   }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a pile loaded past its capacity stops cleanly and names the step that failed",
+          "[loess_pile][cli]") {
+  // The coarse scene to 150 kN in 30 kN steps: far beyond what its shaft and base carry, so a
+  // step fails after its 5 cut-backs before the settlement limit; the run ends normally (exit 0)
+  // with the stop line on stdout, and stderr names the step that failed, which starts at the
+  // last converged level of the curve.
+  const fs::path dir = fs::temp_directory_path() / ("stratum_loess_stop_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "pile.toml") << coarse_scene("5", "150.0");
+  REQUIRE(sh("cd " + dir.string() + " && " + exe + " run pile.toml > run.txt 2> err.txt") == 0);
+  const std::string out = slurp(dir / "run.txt"), err = slurp(dir / "err.txt");
+  INFO(out << err);
+  CHECK(out.find("\nstopped: a load step did not converge after its cut-backs") != std::string::npos);
+  const std::string lead =
+      "stratum: the step that stopped the run: stage \"loading\": step from load factor ";
+  const auto at = err.find(lead);
+  REQUIRE(at != std::string::npos);
+  CHECK(err.find("(gave up after 5 cut-backs)", at) != std::string::npos);
+  const double from = std::stod(err.substr(at + lead.size()));
+  const std::string ls = slurp(dir / "out" / "pile" / "curves" / "load_settlement.csv");
+  const auto last = ls.rfind('\n', ls.size() - 2);
+  const double last_load = std::stod(ls.substr(last + 1));
+  CHECK(last_load == Approx(150.0 * from).epsilon(1e-12));
+  CHECK(last_load < 150.0);
   fs::remove_all(dir);
 }

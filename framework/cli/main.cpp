@@ -192,10 +192,12 @@ int run(const std::vector<std::string>& args, bool check_only) {
               << " s\n"
               << std::defaultfloat;
   }
-  if (s.stop_reason == "failure")
+  if (s.stop_reason == "failure") {
     std::cout << "stopped: a load step did not converge after its cut-backs (collapse, or a numerical "
                  "failure: see diagnostics.csv); the table ends at the last converged level\n";
-  else if (s.stop_reason == "settlement")
+    // The failed step's message (its residual may be NaN) is a diagnostic, not a result: stderr.
+    std::cerr << "stratum: the step that stopped the run: " << s.stop_message << "\n";
+  } else if (s.stop_reason == "settlement")
     std::cout << "stopped: the settlement limit of the stage is exceeded\n";
   if (!s.load_settlement.empty()) {
     std::cout << "\n  load (kN)   settlement (mm)\n";

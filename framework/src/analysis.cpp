@@ -1308,6 +1308,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   if (!res.outcome.ok()) {
     if (st.until_failure) {
       summary.stop_reason = "failure";
+      summary.stop_message = "stage \"" + st.name + "\": " + res.outcome.message;
       return false;
     }
     summary.outcome =

@@ -53,6 +53,8 @@ struct RunSummary {
   std::string out_dir;
   int stages_done = 0;     ///< stages completed (counting those before a restart)
   std::string stop_reason; ///< why a stage ended early: "failure" (until_failure) or "settlement"
+  std::string
+      stop_message; ///< for "failure": the failed step's message (stage, load factors, solver, cut-backs)
   std::vector<std::string> checkpoints; ///< written, in order
   /// Head load (kN) and settlement (mm) per converged level of the loaded stage(s) with a `load`
   /// action (starting at 0, 0), when [output] pile_head names the head edges.
