@@ -1306,13 +1306,13 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   if (writer && st.vtk && step > 0 && !written)
     timed(summary.times.output, [&] { write_step(*writer, time); });
   if (!res.outcome.ok()) {
+    std::string message = "stage \"" + st.name + "\": " + res.outcome.message;
     if (st.until_failure) {
       summary.stop_reason = "failure";
-      summary.stop_message = "stage \"" + st.name + "\": " + res.outcome.message;
-      return false;
+      summary.stop_message = std::move(message);
+    } else {
+      summary.outcome = Outcome::failure(res.outcome.status, std::move(message));
     }
-    summary.outcome =
-        Outcome::failure(res.outcome.status, "stage \"" + st.name + "\": " + res.outcome.message);
     return false;
   }
   if (settled) {
