@@ -28,7 +28,8 @@ stratum_build() {
   # Configure once; afterwards the build re-runs CMake itself when a CMakeLists.txt changes, and
   # a tree configured otherwise (STRATUM_BUILD=build/debug, as the loess-pile CTest case passes
   # its own tree) keeps its build type.
-  [[ -f "$STRATUM_BUILD/CMakeCache.txt" ]] ||
+  # A tree whose first configure failed (a cache but no build system) is configured again.
+  [[ -f "$STRATUM_BUILD/CMakeCache.txt" && (-f "$STRATUM_BUILD/build.ninja" || -f "$STRATUM_BUILD/Makefile") ]] ||
     cmake -S "$STRATUM_ROOT" -B "$STRATUM_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
   # getconf, not nproc: nproc honours the OMP_NUM_THREADS=1 exported below and built on one core.
   cmake --build "$STRATUM_BUILD" -j "$(getconf _NPROCESSORS_ONLN)"
