@@ -388,3 +388,47 @@ TEST_CASE("a run without VTK output still writes its curves and diagnostics into
   CHECK(run.pvd.empty());
   fs::remove_all(dir.parent_path());
 }
+
+TEST_CASE("settlement components of an elastic pile in elastic soil close: head = shortening + base, shaft + "
+          "base load = head load",
+          "[stages][pile]") {
+  // An elastic pile bonded to elastic soil through an elastic interface (a Coulomb law whose
+  // strength is never reached), loaded at its head in 3 steps. The head and toe settlements are
+  // area means over the pile's cross-section; the shortening integrates the vertical strain of the
+  // pile's integration points: for full integration the three close to round-off (1e-8). The
+  // interface forces on the pile balance the head load to the solver's tolerance (1e-9 relative
+  // residual, checked at 1e-6).
+  StagedPile s = small_slipping_pile();
+  s.extra = "[contact_laws.shaft]\nmodel = \"coulomb_elastoplastic\"\nk_s = 1e5\nk_n = 1e6\nc = 1e6\n"
+            "sigma_t = 1e6\n[[interfaces]]\nname = \"shaft_interface\"\nedges = \"hole\"\ncells = "
+            "\"pile\"\nelement = \"interface_line\"\nlaw = \"shaft\"\ncsv = false\n";
+  s.Ep = 3e5; // a compressible pile, so that the shortening is a visible part of the head settlement
+  s.steps = 3;
+  const double P = 200.0;
+  s.loading = "[[stages.actions]]\ntype = \"load\"\ncells = \"pile\"\nforce = " + std::to_string(P) + "\n";
+  auto a = scene(staged_pile_scene(s), "components.toml");
+  const auto run = a->run();
+  INFO(run.outcome.message);
+  REQUIRE(run.outcome.ok());
+  const auto& rows = run.settlement_components;
+  REQUIRE(rows.size() == 4);
+  for (double v : rows.front()) CHECK(v == 0.0);
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    CAPTURE(i, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]);
+    CHECK(r[0] == Approx(P * static_cast<double>(i) / 3.0).epsilon(1e-12));
+    CHECK(std::abs(r[1] - (r[2] + r[3])) <= 1e-8 * std::abs(r[1]));
+    // Each part is a real share: the pile shortens, the toe moves, the shaft slips elastically.
+    CHECK(r[2] > 0.05 * r[1]);
+    CHECK(r[3] > 0.05 * r[1]);
+    CHECK(r[4] > 0.0);
+    CHECK(r[5] > 0.0);
+    CHECK(r[6] > 0.0);
+    CHECK(r[7] > 0.0);
+    CHECK(std::abs(r[6] + r[7] - r[0]) <= 1e-6 * r[0]);
+    // The head's area mean and the nodal mean of the load-settlement curve agree for a stiff head.
+    CHECK(r[1] == Approx(run.load_settlement[i][1]).epsilon(0.02));
+  }
+  // Linear problem: every component grows in proportion to the load.
+  for (std::size_t k = 1; k < 8; ++k) CHECK(rows[3][k] == Approx(3.0 * rows[1][k]).epsilon(1e-6));
+}

@@ -1,6 +1,7 @@
 #include "stratum/analysis.hpp"
 
 #include "checkpoint.hpp"
+#include "pile_components.hpp"
 #include "scene_interfaces.hpp"
 #include "stage.hpp"
 #include "stratum/interfaces.hpp"
@@ -20,6 +21,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -1233,10 +1235,19 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     return P;
   };
   const std::vector<int>* pile = pile_cells.empty() ? nullptr : &m.mesh.cell_sets.at(pile_cells);
+  std::optional<PileComponents> components; // curves/settlement_components.csv (pile_components.hpp)
   auto record = [&] {
     if (!has_head) return;
     const double load = head_load();
     summary.load_settlement.push_back({load, 1e3 * mean_settlement(m, head_nodes)});
+    if (pile) {
+      if (!components) {
+        std::vector<std::size_t> itf;
+        for (const auto& i : interfaces.interfaces) itf.push_back(i.domain);
+        components.emplace(m, *pile, std::move(itf));
+      }
+      summary.settlement_components.push_back(components->row(m, load));
+    }
     if (pile)
       for (const auto& [y, n] : axial_profile(m, *pile)) axial_rows.push_back({load, y, n});
     // Shaft tractions: the interface points on the vertical wall (the largest radius).
@@ -1417,6 +1428,13 @@ RunSummary Analysis::run() {
              << names[static_cast<int>(r[5])] << '\n';
         write_text_atomically(fs::path(summary.out_dir) / "curves" / "shaft_traction.csv", st.str());
       }
+    }
+    if (!summary.settlement_components.empty()) {
+      std::ostringstream sc;
+      sc << std::setprecision(10) << PileComponents::header << '\n';
+      for (const auto& r : summary.settlement_components)
+        for (std::size_t i = 0; i < r.size(); ++i) sc << r[i] << (i + 1 < r.size() ? ',' : '\n');
+      write_text_atomically(fs::path(summary.out_dir) / "curves" / "settlement_components.csv", sc.str());
     }
   }
   summary.times.output += seconds_since(t_out);

@@ -59,6 +59,11 @@ struct RunSummary {
   /// Head load (kN) and settlement (mm) per converged level of the loaded stage(s) with a `load`
   /// action (starting at 0, 0), when [output] pile_head names the head edges.
   std::vector<std::array<double, 2>> load_settlement;
+  /// With [output] pile_cells as well: per recorded level, load_kN, head_mm, pile_shortening_mm,
+  /// base_mm, shaft_slip_mean_mm, shaft_slip_top_mm, shaft_load_kN, base_load_kN, each a change
+  /// since the start of the loaded stage (curves/settlement_components.csv;
+  /// framework/src/pile_components.hpp).
+  std::vector<std::array<double, 8>> settlement_components;
 };
 
 class Analysis {
