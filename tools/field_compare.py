@@ -14,7 +14,7 @@ Exit code 0; a missing or malformed file is one line on stderr and exit code 1.
 """
 import argparse
 import csv
-import math
+import os
 import sys
 
 
@@ -91,6 +91,15 @@ def main(argv):
     ap.add_argument("--png", help="also draw the curves with the three piles and their mean")
     ap.add_argument("--loads", default="15,30,45,60,75,90,105,120")
     args = ap.parse_args(argv)
+    if args.png:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            # Another Python first on PATH (pyenv, conda) lacks Debian's python3-matplotlib.
+            if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != "/usr/bin/python3":
+                os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(__file__)] + argv)
+            print("field_compare: --png needs matplotlib (Debian: python3-matplotlib)", file=sys.stderr)
+            return 1
     try:
         fl, fm, piles = read_field(args.field)
         at = [float(x) for x in args.loads.split(",")]
@@ -142,8 +151,6 @@ def main(argv):
         fig.tight_layout()
         tmp = args.png + ".tmp.png"
         fig.savefig(tmp, dpi=120)
-        import os
-
         os.replace(tmp, args.png)
         print(f"figure: {args.png}")
     return 0
