@@ -2,6 +2,7 @@
 
 #include "checkpoint.hpp"
 #include "pile_components.hpp"
+#include "scene_fingerprint.hpp"
 #include "scene_interfaces.hpp"
 #include "stage.hpp"
 #include "stratum/interfaces.hpp"
@@ -317,9 +318,10 @@ struct Analysis::Impl {
   std::vector<stage::LoadSpec> loads; ///< loads applied at the current state, in order
   Eigen::VectorXd initial_prescribed; ///< [[constraints]] values, applied over the first stage
   std::string fingerprint;
-  double time = 0.0;      ///< output time: stage number - 1 + load factor
-  std::string pile_cells; ///< [output] pile_cells: curves/axial_force.csv
-  std::string out_dir;    ///< where the run writes (for the interface CSV files)
+  std::vector<FingerprintPart> parts; ///< checked on restart (scene_fingerprint.hpp)
+  double time = 0.0;                  ///< output time: stage number - 1 + load factor
+  std::string pile_cells;             ///< [output] pile_cells: curves/axial_force.csv
+  std::string out_dir;                ///< where the run writes (for the interface CSV files)
 
   void build(const toml::table& root);
   stage::LoadSpec parse_load(const toml::table& t, const std::string& where_ctx,
@@ -721,6 +723,7 @@ void Analysis::Impl::build(const toml::table& root) {
   fp << " stages";
   for (const auto& st : stages) fp << ' ' << st.name;
   fingerprint = fp.str();
+  parts = scene_parts(root, model.mesh, STRATUM_VERSION);
 }
 
 stage::LoadSpec Analysis::Impl::parse_load(const toml::table& t, const std::string& where_ctx,
@@ -1352,6 +1355,13 @@ RunSummary Analysis::run() {
     if (c.fingerprint != s.fingerprint)
       throw Error(path + ": the checkpoint belongs to another scene (it has \"" + c.fingerprint +
                   "\", this scene has \"" + s.fingerprint + "\")");
+    std::vector<FingerprintPart> saved;
+    for (std::size_t i = 0; i < c.part_names.size() && i < c.part_digests.size() && i < c.part_stages.size();
+         ++i)
+      saved.push_back({c.part_names[i], c.part_digests[i], c.part_stages[i], {}});
+    SourceLocation where;
+    if (const std::string why = fingerprint_mismatch(saved, s.parts, c.stages_done, &where); !why.empty())
+      throw Error(where, "--restart-from " + path + ": " + why);
     if (c.states.size() != m.domains.size() || c.u.size() != static_cast<std::size_t>(m.u.size()))
       throw Error(path + ": the checkpoint does not match the scene's model size");
     m.u = Eigen::Map<const Eigen::VectorXd>(c.u.data(), static_cast<Eigen::Index>(c.u.size()));
@@ -1380,6 +1390,12 @@ RunSummary Analysis::run() {
       const auto t_ckpt = std::chrono::steady_clock::now();
       Checkpoint c;
       c.fingerprint = s.fingerprint;
+      for (const auto& p : s.parts)
+        if (p.stage <= static_cast<int>(k)) {
+          c.part_names.push_back(p.name);
+          c.part_digests.push_back(p.digest);
+          c.part_stages.push_back(p.stage);
+        }
       c.stages_done = static_cast<int>(k + 1);
       c.stage_name = s.stages[k].name;
       c.u.assign(m.u.data(), m.u.data() + m.u.size());

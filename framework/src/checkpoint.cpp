@@ -62,6 +62,14 @@ Checkpoint read_checkpoint(const std::string& path) {
   if (format != Checkpoint::format)
     throw Error(path + ": checkpoint format " + std::to_string(format) +
                 " is not supported; this build reads " + std::to_string(Checkpoint::format));
+  // The size field is checked against what the file holds before anything is allocated for it.
+  const auto here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto end = in.tellg();
+  in.seekg(here);
+  if (here < 0 || end < here || size != static_cast<std::size_t>(end - here))
+    throw Error(path + ": damaged checkpoint: the header announces " + std::to_string(size) +
+                " payload bytes, the file holds " + std::to_string(end >= here ? end - here : 0));
   std::string bytes(size, '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(size));
   if (static_cast<std::size_t>(in.gcount()) != size || in.peek() != std::char_traits<char>::eof())

@@ -13,10 +13,14 @@
 namespace stratum {
 
 struct Checkpoint {
-  static constexpr int format = 1;
+  static constexpr int format = 2;
   std::string fingerprint; ///< mesh, domains and stage list of the scene that wrote it
-  int stages_done = 0;     ///< stages completed (the restart runs stage stages_done + 1 on)
-  std::string stage_name;  ///< name of the last completed stage
+  /// The resolved scene's parts that shaped the saved state (scene_fingerprint.hpp): name,
+  /// digest and stage (-1 global) of each.
+  std::vector<std::string> part_names, part_digests;
+  std::vector<int> part_stages;
+  int stages_done = 0;    ///< stages completed (the restart runs stage stages_done + 1 on)
+  std::string stage_name; ///< name of the last completed stage
   std::vector<double> u, reactions;
   std::vector<char> active, constrained;
   std::vector<stage::LoadSpec> loads;
@@ -24,7 +28,8 @@ struct Checkpoint {
   double time = 0.0;                       ///< output time reached
 
   template <class Ar> void serialize(Ar& ar, unsigned /*version*/) {
-    ar& fingerprint& stages_done& stage_name& u& reactions& active& constrained& loads& states& time;
+    ar& fingerprint& part_names& part_digests& part_stages& stages_done& stage_name& u& reactions& active&
+        constrained& loads& states& time;
   }
 };
 

@@ -1,6 +1,7 @@
 #include "stratum/params.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace stratum {
@@ -25,7 +26,10 @@ namespace {
 std::string number(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   std::ostringstream o;
-  o << v;
+  if (v == std::floor(v) && std::abs(v) < 1e15)
+    o << static_cast<long long>(v); // integer bounds in full: 2147483647, not 2.14748e+09
+  else
+    o << v;
   return o.str();
 }
 } // namespace
@@ -72,7 +76,11 @@ ParamSpec& Schema::real(std::string name, std::string unit, std::string meaning)
   return add(make(std::move(name), ParamType::real, std::move(unit), std::move(meaning)));
 }
 ParamSpec& Schema::integer(std::string name, std::string unit, std::string meaning) {
-  return add(make(std::move(name), ParamType::integer, std::move(unit), std::move(meaning)));
+  // Integers are used as int (counts, indices): a value is checked against the int range
+  // unless the declaration narrows it, so that 2^32 + 8 is refused rather than cut to 8.
+  return add(make(std::move(name), ParamType::integer, std::move(unit), std::move(meaning)))
+      .at_least(static_cast<double>(std::numeric_limits<int>::min()))
+      .at_most(static_cast<double>(std::numeric_limits<int>::max()));
 }
 ParamSpec& Schema::boolean(std::string name, std::string meaning) {
   return add(make(std::move(name), ParamType::boolean, "-", std::move(meaning)));

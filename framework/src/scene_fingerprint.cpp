@@ -1,0 +1,129 @@
+#include "scene_fingerprint.hpp"
+
+#include "toml_check.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace stratum {
+
+std::string digest_of(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+namespace {
+
+std::string canonical(const toml::node& n) {
+  std::ostringstream o;
+  // toml++ keeps a table's keys sorted, so equal data prints equally whatever the file's order.
+  if (const auto* t = n.as_table())
+    o << toml::toml_formatter(*t, toml::format_flags::none);
+  else if (const auto* a = n.as_array())
+    o << toml::toml_formatter(*a, toml::format_flags::none);
+  else
+    o << toml::toml_formatter(n, toml::format_flags::none);
+  return o.str();
+}
+
+std::string mesh_text(const Mesh& m) {
+  std::ostringstream o;
+  char buf[64];
+  for (const auto& x : m.nodes) {
+    std::snprintf(buf, sizeof buf, "%a %a\n", x.x(), x.y());
+    o << buf;
+  }
+  for (const auto& c : m.cells) {
+    o << static_cast<int>(c.kind);
+    for (int n : c.nodes) o << ' ' << n;
+    o << '\n';
+  }
+  for (const auto& [name, v] : m.cell_sets) {
+    o << "cells " << name;
+    for (int c : v) o << ' ' << c;
+    o << '\n';
+  }
+  for (const auto& [name, v] : m.edge_sets) {
+    o << "edges " << name;
+    for (const auto& e : v) o << ' ' << e.a << '/' << e.b << '/' << e.mid;
+    o << '\n';
+  }
+  return o.str();
+}
+
+} // namespace
+
+std::vector<FingerprintPart> scene_parts(const toml::table& root, const Mesh& mesh,
+                                         const std::string& program_version) {
+  std::vector<FingerprintPart> parts;
+  auto add = [&](std::string name, const std::string& text, int stage, SourceLocation where) {
+    parts.push_back({std::move(name), digest_of(text), stage, std::move(where)});
+  };
+  add("the program version", program_version, -1, {});
+  std::string formulation = "plane_strain";
+  if (const auto* a = root["analysis"].as_table())
+    if (const auto* f = a->get("formulation"); f && f->is_string()) formulation = f->as_string()->get();
+  add("[analysis] formulation", formulation, -1, io::location(root));
+  add("the mesh (nodes, cells and sets as built)", mesh_text(mesh), -1,
+      root.get("mesh") ? io::location(*root.get("mesh")) : io::location(root));
+  for (const char* group : {"materials", "contact_laws"})
+    if (const auto* t = root[group].as_table())
+      for (auto&& [key, value] : *t)
+        add("[" + std::string(group) + "." + std::string(key.str()) + "]", canonical(value), -1,
+            io::location(value));
+  for (const char* list : {"domains", "interfaces", "constraints"})
+    if (const auto* n = root.get(list))
+      add("[[" + std::string(list) + "]]", canonical(*n), -1, io::location(*n));
+  if (const auto* st = root["stages"].as_array()) {
+    int k = 0;
+    for (const auto& e : *st) {
+      std::string name;
+      if (const auto* t = e.as_table())
+        if (const auto* nm = t->get("name"); nm && nm->is_string())
+          name = " \"" + nm->as_string()->get() + "\"";
+      add("[[stages]] #" + std::to_string(k + 1) + name, canonical(e), k, io::location(e));
+      ++k;
+    }
+  } else {
+    std::string text;
+    if (const auto* l = root.get("loads")) text = canonical(*l);
+    add("[[loads]]", text, 0, root.get("loads") ? io::location(*root.get("loads")) : io::location(root));
+  }
+  return parts;
+}
+
+std::string fingerprint_mismatch(const std::vector<FingerprintPart>& saved,
+                                 const std::vector<FingerprintPart>& current, int stages_done,
+                                 SourceLocation* where) {
+  auto relevant = [&](const FingerprintPart& p) { return p.stage < stages_done; };
+  for (const auto& s : saved) {
+    if (!relevant(s)) continue;
+    const FingerprintPart* c = nullptr;
+    for (const auto& p : current)
+      if (p.name == s.name) c = &p;
+    if (!c) return s.name + " of the scene that wrote the checkpoint is missing from this scene";
+    if (c->digest != s.digest) {
+      if (where) *where = c->where;
+      return c->name + " differs from the scene that wrote the checkpoint (it must stay as it was up to the "
+                       "restart; only later stages may change)";
+    }
+  }
+  for (const auto& c : current) {
+    if (!relevant(c)) continue;
+    bool found = false;
+    for (const auto& s : saved) found = found || s.name == c.name;
+    if (!found) {
+      if (where) *where = c.where;
+      return c.name + " is not in the scene that wrote the checkpoint";
+    }
+  }
+  return {};
+}
+
+} // namespace stratum

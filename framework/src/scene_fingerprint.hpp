@@ -1,0 +1,44 @@
+// What a checkpoint must agree on with the scene that restarts from it (internal).
+//
+// The resolved scene is cut into parts, each with a digest of its canonical text: the program
+// version, the formulation, the built mesh (coordinates, cells, sets, after interface splits),
+// every [materials.*] and [contact_laws.*] table, [[domains]], [[interfaces]], [[constraints]]
+// and, per stage, its [[stages]] table (or [[loads]] in a scene without stages). A checkpoint
+// written after stage k keeps the global parts and those of stages 1..k; a restart compares
+// exactly those, so the later stages may change (that is what a restart is for) and nothing
+// that shaped the saved state may. Comments and key order in the file do not matter.
+#pragma once
+
+#include "stratum/error.hpp"
+#include "stratum/mesh.hpp"
+
+#include <toml++/toml.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+struct FingerprintPart {
+  std::string name;   ///< e.g. "[materials.concrete]", "[[stages]] #2 \"boring\"", "mesh"
+  std::string digest; ///< 16 hex digits (FNV-1a 64 of the canonical text)
+  int stage = -1;     ///< -1: global; else the 0-based stage the part belongs to
+  SourceLocation where;
+};
+
+/// 16 hex digits of the 64-bit FNV-1a hash of `text`.
+[[nodiscard]] std::string digest_of(const std::string& text);
+
+/// The parts of a scene: `root` its TOML, `mesh` the built mesh, `stage_tables` the [[stages]]
+/// tables (empty for a scene without stages: the [[loads]] then form stage 0).
+[[nodiscard]] std::vector<FingerprintPart> scene_parts(const toml::table& root, const Mesh& mesh,
+                                                       const std::string& program_version);
+
+/// The first part of `saved` (a checkpoint's, written after `stages_done` stages) that the scene's
+/// `current` parts do not reproduce, as a message; "" when they agree.
+[[nodiscard]] std::string fingerprint_mismatch(const std::vector<FingerprintPart>& saved,
+                                               const std::vector<FingerprintPart>& current, int stages_done,
+                                               SourceLocation* where);
+
+} // namespace stratum
