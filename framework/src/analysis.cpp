@@ -304,7 +304,12 @@ struct Analysis::Impl {
   std::vector<std::unique_ptr<Material>> materials;
   std::vector<std::unique_ptr<Element>> elements;
   SceneInterfaces interfaces; ///< contact laws, interface elements, named interfaces
+  /// The stage's solver: created afresh for every stage from the factory and its checked
+  /// parameters, so that nothing a solver keeps (a reference load, a factorization) outlives
+  /// the stage it was made for.
   std::unique_ptr<Solver> solver;
+  const Factory<Solver>* solver_factory = nullptr;
+  Params solver_params;
   Model model;
   std::string linear_solver = "auto";
   bool reuse_linear_stiffness = true;
@@ -420,7 +425,9 @@ void Analysis::Impl::build(const toml::table& root) {
                   "[analysis] solver = \"" + name + "\": " + e.message());
     }
     const auto& f = registry.solver(name);
-    solver = f.create(check_table(optional_table(root, "solver"), f.schema, "[solver]"));
+    solver_factory = &f;
+    solver_params = check_table(optional_table(root, "solver"), f.schema, "[solver]");
+    solver = f.create(solver_params); // checks the parameters now; each stage gets its own (run_stage)
   }
 
   // ---- mesh
@@ -1310,6 +1317,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     cb.stop = [&](double, const Eigen::VectorXd&) {
       return settled = mean_settlement(m, *monitor) > st.stop_settlement;
     };
+  solver = solver_factory->create(solver_params);
   StageResult res = stratum::run_stage(problem, *solver, settings, cb, u);
   summary.cutbacks += res.cutbacks;
   for (auto& r : res.reports) summary.reports.push_back(std::move(r));
