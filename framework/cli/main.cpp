@@ -35,7 +35,7 @@ constexpr const char* usage =
     "       stratum point POINT.toml [--out FILE.csv]\n"
     "       stratum plugins [--describe NAME]\n"
     "       stratum fit TARGET CSV... [-o FILE.toml]\n"
-    "       stratum sweep STUDY.toml [--out DIR]   (also: mpirun -n N stratum sweep ...)\n"
+    "       stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]   (also under mpirun -n N)\n"
     "       stratum --version\n";
 
 constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,

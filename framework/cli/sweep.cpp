@@ -1,7 +1,7 @@
-// `stratum sweep STUDY.toml [--out DIR]`: runs a parameter study (stratum/sweep.hpp) on one
-// process, or on N under mpirun/srun: rank 0 is the manager; it hands out sample indices one at
-// a time to the ranks that ask (dynamic balancing), runs samples itself on a second thread, and
-// is the only writer of the output folder:
+// `stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]`: runs a parameter study (stratum/sweep.hpp) on
+// one process, or on N under mpirun/srun: rank 0 is the manager; it hands out sample indices one at a time to
+// the ranks that ask (dynamic balancing), runs samples itself on a second thread, and is the only writer of
+// the output folder:
 //   DIR/journal.csv  the study's hash, then one finished row per line, appended and fsync'd
 //                    as each sample finishes: a rerun runs only the samples it lacks;
 //   DIR/samples.csv  rewritten from the journal at the end (sorted by index, temporary file
@@ -450,13 +450,16 @@ int worker(const Study& study, const fs::path& out) {
 } // namespace
 
 int sweep(const std::vector<std::string>& args) {
-  std::string file, out;
+  std::string file, out, print;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--out") {
       if (i + 1 >= args.size()) throw Error("--out needs a directory");
       out = args[++i];
+    } else if (args[i] == "--print-scene") {
+      if (i + 1 >= args.size()) throw Error("--print-scene needs a sample index");
+      print = args[++i];
     } else if (!args[i].empty() && args[i][0] == '-') {
-      throw Error("unknown option '" + args[i] + "'; allowed: --out DIR");
+      throw Error("unknown option '" + args[i] + "'; allowed: --out DIR, --print-scene INDEX");
     } else if (file.empty()) {
       file = args[i];
     } else {
@@ -465,6 +468,16 @@ int sweep(const std::vector<std::string>& args) {
   }
   if (file.empty()) throw Error("no study file given (usage: stratum sweep STUDY.toml [--out DIR])");
   if (out.empty()) out = (fs::path("out") / fs::path(file).stem()).string();
+  if (!print.empty()) { // the scene of one sample, to run or inspect by hand; no MPI, no output
+    const Study study = Study::from_file(file);
+    char* end = nullptr;
+    const long i = std::strtol(print.c_str(), &end, 10);
+    if (*end || i < 0 || static_cast<std::size_t>(i) >= study.samples().size())
+      throw Error("--print-scene " + print + ": the study has samples 0 to " +
+                  std::to_string(study.samples().size() - 1));
+    std::cout << study.scene_text(static_cast<int>(i));
+    return 0;
+  }
 
   MpiSession mpi;
   std::optional<Study> study;
