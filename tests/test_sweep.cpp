@@ -249,7 +249,7 @@ TEST_CASE("elastic pile samples: settlement proportional to the load and to 1 / 
   CHECK(!std::filesystem::exists(out)); // no per-sample output unless asked for
 }
 
-TEST_CASE("a point-file study: drained triaxial q = E eps_axial; a failing sample is a row", "[sweep]") {
+TEST_CASE("a point-file study: drained triaxial q = E eps_axial, and a failing sample is a row", "[sweep]") {
   const Env env;
   const Study st = Study::from_string(
       "[study]\npoint = \"" + src +

@@ -62,7 +62,8 @@ def tornado(rows, quantity, out):
         for r in (lo, hi):
             ok = r is not None and r["status"] != "failed" and r[quantity] != ""
             vals.append(float(r[quantity]) if ok else None)
-        swing = max(abs(v - b) for v in vals if v is not None) if any(v is not None for v in vals) else 0.0
+        # A setting whose run never reached the quantity (it stopped first) is the largest effect.
+        swing = math.inf if None in vals else max(abs(v - b) for v in vals)
         label = name
         if name in params:
             label += f"  ({lo[name]} / {hi[name]})"
@@ -72,14 +73,15 @@ def tornado(rows, quantity, out):
     for i, (_, label, (vlo, vhi)) in enumerate(bars):
         for v, colour, r, dy in ((vlo, "tab:blue", lo, -0.15), (vhi, "tab:red", hi, 0.15)):
             if v is None:  # the run failed, or stopped before the quantity's abscissa
-                why = "failed" if r is None or r["status"] == "failed" else "not reached"
-                ax.text(b, i + dy, f"  {why} ({'low' if dy < 0 else 'high'})", va="center", fontsize=7)
+                why = "failed" if r is None or r["status"] == "failed" else "not reached: the run stopped first"
+                ax.text(b, i + dy, f"  {'low' if dy < 0 else 'high'}: {why}", va="center", fontsize=7,
+                        color=colour, fontweight="bold")
             else:
                 ax.barh(i, v - b, left=b, color=colour, height=0.6)
     ax.set_yticks(range(len(bars)), [t[1] for t in bars], fontsize=8)
     ax.axvline(b, color="black", lw=1)
     ax.set_xlabel(f"{quantity} (base run {b:g})")
-    ax.set_title("one at a time: low (blue) and high (red) setting", fontsize=9)
+    ax.set_title("one at a time: low (blue) and high (red) setting, largest effect on top", fontsize=9)
     fig.tight_layout()
     fig.savefig(out, dpi=130)
     print(f"wrote {out}")

@@ -6,7 +6,7 @@
 //                    as each sample finishes: a rerun runs only the samples it lacks;
 //   DIR/samples.csv  rewritten from the journal at the end (sorted by index, temporary file
 //                    then rename), so it depends only on the study, never on the rank count;
-//   DIR/timings.csv  index, rank, host, seconds, appended as samples finish.
+//   DIR/timings.csv  index, rank, host, wall and CPU seconds, status, appended as samples finish.
 // The MPI C API is used when the build found MPI (STRATUM_HAVE_MPI) and the process was started
 // by an MPI launcher; otherwise everything runs in this one process.
 #include "sweep.hpp"
@@ -118,10 +118,10 @@ struct Finished {
 };
 
 #ifdef STRATUM_HAVE_MPI
-/// "index\nstatus\nseconds\nhost\nrow": what a worker sends back.
+/// "index\nstatus\nseconds\ncpu seconds\nhost\nrow": what a worker sends back.
 std::string pack(const SampleResult& r, const std::string& host) {
-  return std::to_string(r.index) + "\n" + r.status + "\n" + seconds_text(r.seconds) + "\n" + host + "\n" +
-         r.row;
+  return std::to_string(r.index) + "\n" + r.status + "\n" + seconds_text(r.seconds) + "\n" +
+         seconds_text(r.cpu_seconds) + "\n" + host + "\n" + r.row;
 }
 
 Finished unpack(const std::string& s, int rank) {
@@ -137,6 +137,7 @@ Finished unpack(const std::string& s, int rank) {
   f.result.index = std::stoi(field());
   f.result.status = field();
   f.result.seconds = std::stod(field());
+  f.result.cpu_seconds = std::stod(field());
   f.host = field();
   f.result.row = s.substr(a);
   return f;
@@ -304,7 +305,7 @@ int manager(const Study& study, const fs::path& out, [[maybe_unused]] const MpiS
     const bool fresh = !fs::exists(out / "timings.csv");
     timings.open(out / "timings.csv", std::ios::app);
     if (!timings) throw Error("cannot write '" + (out / "timings.csv").string() + "'");
-    if (fresh) timings << "index,rank,host,seconds,status\n" << std::flush;
+    if (fresh) timings << "index,rank,host,seconds,cpu_seconds,status\n" << std::flush;
   } catch (...) {
     setup_error = std::current_exception();
     pending.clear();
@@ -325,7 +326,8 @@ int manager(const Study& study, const fs::path& out, [[maybe_unused]] const MpiS
 
   auto record = [&](const SampleResult& r, int rank, const std::string& h) {
     journal->append(static_cast<std::size_t>(r.index), r.row);
-    timings << r.index << "," << rank << "," << h << "," << seconds_text(r.seconds) << "," << r.status << "\n"
+    timings << r.index << "," << rank << "," << h << "," << seconds_text(r.seconds) << ","
+            << seconds_text(r.cpu_seconds) << "," << r.status << "\n"
             << std::flush;
     progress.finished(r.status == "failed");
     ++counts[r.status == "converged" ? 0 : r.status == "stopped" ? 1 : 2];
@@ -410,7 +412,17 @@ int manager(const Study& study, const fs::path& out, [[maybe_unused]] const MpiS
     }
   }
   if (local.joinable()) local.join();
-  if (setup_error) std::rethrow_exception(setup_error);
+  if (setup_error) std::rethrow_exception(setup_error); // every worker was told to stop
+#ifdef STRATUM_HAVE_MPI
+  if (run_error && mpi.size() > 1) { // workers may be waiting for an answer: end the job
+    try {
+      std::rethrow_exception(run_error);
+    } catch (const std::exception& e) {
+      std::cerr << "stratum: " << e.what() << "\n";
+    }
+    MPI_Abort(MPI_COMM_WORLD, 1);
+  }
+#endif
   if (run_error) std::rethrow_exception(run_error);
   progress.show(0, true);
   progress.end();

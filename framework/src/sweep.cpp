@@ -11,10 +11,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -286,6 +288,12 @@ const std::vector<std::string> point_columns = {
     "sig_zz", "sig_xy", "sig_yz", "sig_zx", "eps_axial", "eps_vol",  "p",        "q"};
 const std::vector<std::string> scene_columns = {"load", "settlement"};
 
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 std::string csv_text(std::string s) {
   for (char& c : s)
     if (c == '\n' || c == '\r') c = ' ';
@@ -331,7 +339,7 @@ double normal_quantile(double p) {
   }
   // One Halley step on Phi(x) - p (third-order convergence) brings it to rounding level.
   const double e = normal_cdf(x) - p;
-  const double u = e * std::sqrt(2.0 * M_PI) * std::exp(0.5 * x * x);
+  const double u = e * std::sqrt(2.0 * std::numbers::pi) * std::exp(0.5 * x * x);
   return x - u / (1.0 + 0.5 * x * u);
 }
 
@@ -725,6 +733,7 @@ std::string Study::scene_text(int index) const {
 
 SampleResult Study::run(int index, const std::string& out_dir) const {
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = thread_cpu_seconds();
   const Sample& smp = samples_.at(static_cast<std::size_t>(index));
   std::string status = "failed", reason;
   std::map<std::string, std::vector<double>> cols;
@@ -826,6 +835,7 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
   r.row = std::move(row);
   r.status = status;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.cpu_seconds = thread_cpu_seconds() - cpu0;
   return r;
 }
 

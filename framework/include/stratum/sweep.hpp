@@ -58,9 +58,10 @@ struct Sample {
 /// The outcome of one sample: its samples.csv row and what the manager counts.
 struct SampleResult {
   int index = 0;
-  std::string row;    ///< one CSV line without the newline
-  std::string status; ///< converged, stopped or failed
-  double seconds = 0.0;
+  std::string row;          ///< one CSV line without the newline
+  std::string status;       ///< converged, stopped or failed
+  double seconds = 0.0;     ///< wall time of the sample
+  double cpu_seconds = 0.0; ///< CPU time of the thread that ran it (the element loop on one thread)
 };
 
 class Study {
