@@ -123,6 +123,12 @@ def main():
         table(["processes", "wall (s)", "samples/min", "sum of sample times (s)", "mean sample wall (s)",
                "mean sample CPU (s)"], rows),
         "",
+        "The CPU time of a sample is that of the thread that ran it; its share of the sample's wall time "
+        + ", ".join(f"{float(r[5]) / float(r[4]) * 100:.0f} % with {r[0]} process{'es' if r[0] > 1 else ''}"
+                    for r in rows)
+        + ", shows how much of the two cores the study got: below 100 % it waited for other jobs, "
+        "which bounds what a second process can add on this machine.",
+        "",
     ]
 
     # The same samples, each as its own `stratum run`.
