@@ -80,7 +80,7 @@ public:
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
 #else
     if (launched_by_mpi() && launcher_size() > 1)
-      throw Error("this stratum was built without MPI (CMake found none): run stratum sweep as one process, "
+      throw Error("this stratum was built without MPI: run stratum sweep as one process, "
                   "or build it with libopenmpi-dev installed");
 #endif
   }

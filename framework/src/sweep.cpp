@@ -501,9 +501,8 @@ Study Study::from_string(const std::string& text_in, const std::string& path) {
                   ctx + " name '" + p.name + "' must be new and made of letters, digits, '_', '-', '.'");
     if (t.get("path") && t.get("paths"))
       throw Error(location(*t.get("paths")), ctx + " give path or paths, not both");
-    if (const auto* n = t.get("path")) {
+    if (t.get("path")) {
       p.paths.push_back(text(t, "path", ctx));
-      (void)n;
     } else if (const auto* n2 = t.get("paths")) {
       const auto* a = n2->as_array();
       if (!a || a->empty()) throw Error(location(*n2), ctx + " paths must be a non-empty array of strings");
@@ -797,7 +796,13 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
       }
     }
   } catch (const Error& e) {
-    reason = e.what();
+    // A place in the sample's scene names its line in the text --print-scene shows (not in the
+    // base file, and not by the path the study was given by: the row must not depend on it).
+    const auto& w = e.where();
+    reason = w.file == base_path_ ? "line " + std::to_string(w.line) + ":" + std::to_string(w.column) +
+                                        " of the sample's scene (stratum sweep --print-scene " +
+                                        std::to_string(index) + "): " + e.message()
+                                  : e.what();
   } catch (const std::exception& e) {
     reason = std::string("internal error: ") + e.what();
   }
