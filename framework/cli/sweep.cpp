@@ -255,7 +255,7 @@ public:
     if (now_ > 0 && elapsed > 0) {
       const double rate = static_cast<double>(now_) / elapsed; // samples per second
       char buf[32];
-      std::snprintf(buf, sizeof buf, "%.3g", rate * 60);
+      std::snprintf(buf, sizeof buf, rate * 60 >= 100 ? "%.0f" : "%.3g", rate * 60);
       o << ", " << buf << " samples/min";
       const std::size_t left = total_ - before_ - now_;
       if (left) o << ", about " << duration_text(static_cast<double>(left) / rate) << " left";
