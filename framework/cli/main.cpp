@@ -4,6 +4,7 @@
 //   stratum check SCENE.toml
 //   stratum plugins [--describe NAME]
 //   stratum fit TARGET CSV... [-o FILE]   (framework/cli/fit.cpp)
+//   stratum sweep STUDY.toml [--out DIR]  (framework/cli/sweep.cpp; also under mpirun)
 //   stratum --version
 //
 // Errors are one line on stderr and a non-zero exit code.
@@ -12,6 +13,7 @@
 #include "stratum/plugin.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/point_driver.hpp"
+#include "sweep.hpp"
 
 #include <unistd.h>
 
@@ -33,6 +35,7 @@ constexpr const char* usage =
     "       stratum point POINT.toml [--out FILE.csv]\n"
     "       stratum plugins [--describe NAME]\n"
     "       stratum fit TARGET CSV... [-o FILE.toml]\n"
+    "       stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]   (also under mpirun -n N)\n"
     "       stratum --version\n";
 
 constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,
@@ -231,11 +234,12 @@ int main(int argc, char** argv) {
     if (cmd == "plugins") return plugins(rest);
     if (cmd == "point") return point(rest);
     if (cmd == "fit") return stratum::cli::fit(rest);
+    if (cmd == "sweep") return stratum::cli::sweep(rest);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::cout << usage;
       return 0;
     }
-    throw Error("unknown command '" + cmd + "'; allowed: run, check, point, fit, plugins, --version");
+    throw Error("unknown command '" + cmd + "'; allowed: run, check, point, fit, sweep, plugins, --version");
   } catch (const stratum::Error& e) {
     std::cerr << "stratum: " << e.what() << "\n";
     return 1;

@@ -1,0 +1,12 @@
+// `stratum sweep`: parameter studies, on one process or under mpirun/srun (framework/cli/sweep.cpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace stratum::cli {
+
+/// Runs `stratum sweep STUDY.toml [--out DIR]`; throws stratum::Error on bad input (rank 0).
+int sweep(const std::vector<std::string>& args);
+
+} // namespace stratum::cli
