@@ -25,6 +25,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <string>
 
@@ -41,7 +42,8 @@ const std::string elastic_lib = umat_dir + "/umat_elastic.so";
 
 std::string builtin_elastic() { return "model = \"linear_elastic\"\nE = 10000.0\nnu = 0.25\n"; }
 std::string fortran_elastic(int ntens = 0) {
-  return "model = \"umat\"\nlibrary = \"" + elastic_lib + "\"\nprops = [10000.0, 0.25]\nprop_names = \"E nu\"\n" +
+  return "model = \"umat\"\nlibrary = \"" + elastic_lib +
+         "\"\nprops = [10000.0, 0.25]\nprop_names = \"E nu\"\n" +
          "symmetric_tangent = true\nntens = " + std::to_string(ntens) + "\n";
 }
 std::string builtin_mises(double E = 10000.0, double nu = 0.25, double sy = 50.0, double H = 1000.0) {
@@ -109,7 +111,8 @@ steps = 6
 )";
 
 PointRun run_point(const std::string& material, const std::string& paths) {
-  const auto d = PointDriver::from_string("[material]\n" + material + paths, "point.toml", {STRATUM_PLUGIN_DIR});
+  const auto d =
+      PointDriver::from_string("[material]\n" + material + paths, "point.toml", {STRATUM_PLUGIN_DIR});
   return d->run();
 }
 
@@ -240,7 +243,8 @@ TEST_CASE("umat: Stratum's Voigt order <-> Abaqus' NTENS = 6 and NTENS = 4 layou
   for (const auto l : {umat::Layout::three_d(), umat::Layout::plane()}) {
     std::vector<double> dd(static_cast<std::size_t>(l.ntens * l.ntens));
     for (int i = 1; i <= l.ntens; ++i)
-      for (int j = 1; j <= l.ntens; ++j) dd[static_cast<std::size_t>((i - 1) + (j - 1) * l.ntens)] = 10 * i + j;
+      for (int j = 1; j <= l.ntens; ++j)
+        dd[static_cast<std::size_t>((i - 1) + (j - 1) * l.ntens)] = 10 * i + j;
     const Mat6 D = umat::tangent_from_abaqus(l, dd.data());
     const auto& idx = l.index();
     for (int i = 0; i < 6; ++i)
@@ -275,7 +279,8 @@ TEST_CASE("umat: the Fortran elastic UMAT is linear_elastic on every point path 
   // Out-of-plane shears: NTENS = 6 (automatic or forced); NTENS = 4 refuses the state.
   const auto ref3 = run_point(builtin_elastic(), plane_paths + shear_3d_path);
   for (int ntens : {0, 6}) {
-    const auto [ds, de] = point_difference(run_point(fortran_elastic(ntens), plane_paths + shear_3d_path), ref3);
+    const auto [ds, de] =
+        point_difference(run_point(fortran_elastic(ntens), plane_paths + shear_3d_path), ref3);
     INFO("3D path, ntens = " << ntens << ": stress " << ds << ", strain " << de);
     CHECK(ds <= 1e-12);
     CHECK(de <= 1e-12);
@@ -290,7 +295,8 @@ TEST_CASE("umat: the C von Mises UMAT is von_mises on every point path (1e-12)",
   const auto ref = run_point(builtin_mises(), plane_paths);
   // The paths yield: the reference ends with plastic strain.
   for (int ntens : {0, 4, 6}) {
-    const auto [ds, de] = point_difference(run_point(c_mises(10000, 0.25, 50, 1000, ntens), plane_paths), ref);
+    const auto [ds, de] =
+        point_difference(run_point(c_mises(10000, 0.25, 50, 1000, ntens), plane_paths), ref);
     INFO("ntens = " << ntens << ": stress " << ds << ", strain " << de);
     CHECK(ds <= 1e-12);
     CHECK(de <= 1e-12);
@@ -302,6 +308,118 @@ TEST_CASE("umat: the C von Mises UMAT is von_mises on every point path (1e-12)",
     INFO("3D path, ntens = " << ntens << ": stress " << ds << ", strain " << de);
     CHECK(ds <= 1e-12);
     CHECK(de <= 1e-12);
+  }
+}
+
+/// Drucker-Prager paths: cone (undrained, shear, oedometer) and apex (isotropic extension), then
+/// out-of-plane shear from the apex. Strain control except the triaxial and simple-shear stresses.
+const std::string dp_paths = R"(
+[initial]
+p = 100.0
+[[paths]]
+type = "triaxial_drained"
+axial_strain = -0.004
+steps = 4
+[[paths]]
+type = "triaxial_undrained"
+axial_strain = -0.02
+steps = 20
+[[paths]]
+type = "simple_shear"
+shear_strain = 0.01
+steps = 10
+[[paths]]
+type = "oedometer"
+axial_strain = -0.01
+steps = 5
+[[paths]]
+type = "isotropic"
+volumetric_strain = 0.05
+steps = 5
+)";
+
+std::string builtin_dp() {
+  return "model = \"drucker_prager\"\nE = 10000.0\nnu = 0.3\nc = 10.0\nphi = 30.0\npsi = 10.0\n"
+         "cone = \"compression\"\nintegrator = \"closest_point\"\n";
+}
+std::string c_dp(int ntens = 0) {
+  return "model = \"umat\"\nlibrary = \"" + umat_dir + "/umat_dp.so\"\nsymbol = \"dp_umat\"\n" +
+         "props = [10000.0, 0.3, 10.0, 30.0, 10.0]\nprop_names = \"E nu c phi psi\"\nnstatv = 1\n" +
+         "ntens = " + std::to_string(ntens) + "\n";
+}
+
+TEST_CASE("umat: the C Drucker-Prager UMAT is drucker_prager (compression cone) on cone and apex paths",
+          "[umat]") {
+  const auto ref = run_point(builtin_dp(), dp_paths);
+  REQUIRE(ref.outcome.ok());
+  // the last path ends at the apex: hydrostatic tension c cot(phi)
+  const double apex = 10.0 / std::tan(30.0 * std::numbers::pi / 180.0);
+  CHECK(std::abs(ref.rows.back().stress[0] - apex) <= 1e-9 * apex);
+  for (int ntens : {0, 4, 6}) {
+    const auto [ds, de] = point_difference(run_point(c_dp(ntens), dp_paths), ref);
+    INFO("ntens = " << ntens << ": stress " << ds << ", strain " << de);
+    CHECK(ds <= 1e-12);
+    CHECK(de <= 1e-12);
+  }
+  // Out-of-plane shears, strain-controlled (the apex tangent is zero: no stress control there).
+  const std::string shear_3d_strain = R"(
+[[paths]]
+type = "mixed"
+control = ["strain", "strain", "strain", "strain", "strain", "strain"]
+increment = [-0.02, -0.03, -0.02, 0.002, 0.004, -0.003]
+steps = 6
+)";
+  const auto ref3 = run_point(builtin_dp(), dp_paths + shear_3d_strain);
+  const auto [ds, de] = point_difference(run_point(c_dp(0), dp_paths + shear_3d_strain), ref3);
+  INFO("3D path: stress " << ds << ", strain " << de);
+  CHECK(ds <= 1e-12);
+  CHECK(de <= 1e-12);
+}
+
+TEST_CASE("umat: the C Drucker-Prager UMAT's non-symmetric cone tangent matches finite differences",
+          "[umat]") {
+  auto lib = std::make_shared<const umat::Library>(umat_dir + "/umat_dp.so", "dp_umat");
+  umat::Settings s;
+  s.name = "fd";
+  s.props = {10000.0, 0.3, 10.0, 30.0, 10.0};
+  s.nstatv = 1;
+  s.statev = {0.0};
+  s.statev_names = {"ep"};
+  for (int ntens : {4, 6}) {
+    s.ntens = ntens;
+    const umat::UmatMaterial m(lib, s);
+    Vec6 stress_n, strain_n = Vec6::Zero(), de;
+    stress_n << -20, -30, -25, 5, 0, 0;
+    de << 1e-3, -4e-3, 0.5e-3, 1e-2, 0, 0;
+    if (ntens == 6) stress_n[4] = 8, stress_n[5] = -6, de[4] = 1e-3, de[5] = -2e-3;
+    std::vector<double> h0(static_cast<std::size_t>(m.history_size()), 0.0);
+    auto eval = [&](const Vec6& d, Vec6& sig, Mat6& D, std::vector<double>& h) {
+      h.assign(h0.size(), 0.0);
+      MaterialOutput out{sig, h, D};
+      return m.update(MaterialInput{stress_n, strain_n, h0, d, {0, 0}}, out);
+    };
+    Vec6 sig;
+    Mat6 D;
+    std::vector<double> h;
+    REQUIRE(eval(de, sig, D, h).ok());
+    REQUIRE(h[0] > 0.0);                                                               // on the cone
+    REQUIRE(std::abs(sig[0] - sig[1]) > 1.0);                                          // not at the apex
+    CHECK((D - D.transpose()).cwiseAbs().maxCoeff() > 1e-3 * D.cwiseAbs().maxCoeff()); // psi < phi
+    const int n = ntens;
+    for (int j = 0; j < n; ++j) {
+      const double eps = 1e-7;
+      Vec6 dp = de, dm = de, sp, sm;
+      dp[j] += eps, dm[j] -= eps;
+      Mat6 Dp, Dm;
+      std::vector<double> hp, hm;
+      REQUIRE(eval(dp, sp, Dp, hp).ok());
+      REQUIRE(eval(dm, sm, Dm, hm).ok());
+      const Vec6 fd = (sp - sm) / (2 * eps);
+      for (int i = 0; i < n; ++i) {
+        INFO("ntens " << ntens << " D(" << i << ", " << j << ") = " << D(i, j) << ", fd " << fd[i]);
+        CHECK(std::abs(D(i, j) - fd[i]) <= 1e-5 * D.cwiseAbs().maxCoeff());
+      }
+    }
   }
 }
 
@@ -419,8 +537,10 @@ TEST_CASE("umat: a NaN from the UMAT is cut back and ends the run with a status,
   for (int where : {0, 1, 2}) {
     const std::string props = ", 0.0, 1e-3, " + std::to_string(where);
     const auto got = run_scene(scene_toml(c, c_mises(1000.0, 0.3, 1e9, 0.0, 0, props)));
-    INFO("NaN in " << (where == 0 ? "STRESS" : where == 1 ? "DDSDDE" : "STATEV") << ": "
-                   << got.summary.outcome.message);
+    INFO("NaN in " << (where == 0   ? "STRESS"
+                       : where == 1 ? "DDSDDE"
+                                    : "STATEV")
+                   << ": " << got.summary.outcome.message);
     CHECK(got.summary.outcome.status == Status::non_finite);
     CHECK(got.summary.outcome.message.find(where == 0   ? "non-finite STRESS"
                                            : where == 1 ? "non-finite DDSDDE"
@@ -442,8 +562,8 @@ TEST_CASE("umat: a library or symbol that cannot be loaded is a located error at
   std::string e = err("model = \"umat\"\nlibrary = \"libnothere.so\"\nprops = [1.0]\n");
   INFO(e);
   CHECK(e.find(scene_path + ":") == 0);
-  CHECK(e.find("[materials.m] library = \"libnothere.so\": no such file '" + (scratch() / "libnothere.so").string()) !=
-        std::string::npos);
+  CHECK(e.find("[materials.m] library = \"libnothere.so\": no such file '" +
+               (scratch() / "libnothere.so").string()) != std::string::npos);
   CHECK(e.find('\n') == std::string::npos);
 
   // The C library exports mises_umat, not the default umat_.
@@ -523,4 +643,46 @@ TEST_CASE("umat: default state-variable names are statev_1 .. statev_n", "[umat]
   const auto names = a->model().domains[0].law.material->history_names();
   CHECK(names == std::vector<std::string>{"statev_1", "statev_2", "statev_3"});
   CHECK(a->model().domains[0].law.material->history_size() == 6);
+}
+
+TEST_CASE("umat: the loess pile runs through all its stages with the soil as a UMAT", "[umat]") {
+  // inputs/loess_pile/umat_example.toml with its library path pointed at this build tree.
+  const std::string path = std::string(STRATUM_SOURCE_DIR) + "/inputs/loess_pile/umat_example.toml";
+  std::ifstream in(path);
+  REQUIRE(in);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string toml = ss.str();
+  const std::string rel = "\"../../build/release/tests/umat/umat_dp.so\"";
+  const auto at = toml.find(rel);
+  REQUIRE(at != std::string::npos);
+  toml.replace(at, rel.size(), "\"" + umat_dir + "/umat_dp.so\"");
+  RunOptions o;
+  o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+  o.write_output = false;
+  auto a = Analysis::from_string(toml, path, o);
+  const auto s = a->run();
+  INFO(s.outcome.message << " " << s.stop_message);
+  REQUIRE(s.outcome.ok());
+  // All four stages ran: the loading stage (4) either reaches its full load (150 kN) or ends
+  // at its settlement limit (27 mm), which the summary counts as ended early.
+  REQUIRE(!s.records.empty());
+  CHECK(s.records.back().stage == 4);
+  CHECK(s.records.back().accepted);
+  REQUIRE(!s.load_settlement.empty());
+  const auto last = s.load_settlement.back();
+  if (s.stop_reason == "settlement") {
+    CHECK(s.stages_done == 3);
+    CHECK(last[1] >= 27.0);
+  } else {
+    CHECK(s.stages_done == 4);
+    CHECK(last[0] >= 150.0 - 1e-9);
+  }
+  // The soil yielded somewhere: the UMAT's STATEV(1) (eps_bar_p) > 0 at some point of the bore or near zone.
+  double most = 0;
+  for (const auto& dm : a->model().domains)
+    if (dm.law.material && dm.law.material->history_names() == std::vector<std::string>{"eps_bar_p"})
+      for (std::size_t p = 0; p < dm.states.points(); ++p)
+        most = std::max(most, dm.states.committed(p).history()[0]);
+  CHECK(most > 0.0);
 }
