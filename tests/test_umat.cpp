@@ -686,3 +686,40 @@ TEST_CASE("umat: the loess pile runs through all its stages with the soil as a U
         most = std::max(most, dm.states.committed(p).history()[0]);
   CHECK(most > 0.0);
 }
+
+TEST_CASE("umat: stratum check names the library line; stratum run ends a NaN run cleanly", "[umat][cli]") {
+  auto run = [](const std::string& args, std::string& err) {
+    const fs::path e = scratch() / "stderr.txt", o = scratch() / "stdout.txt";
+    const std::string cmd = "cd " + scratch().string() + " && STRATUM_PLUGIN_PATH= " + STRATUM_EXE + " " +
+                            args + " >" + o.string() + " 2>" + e.string();
+    const int status = std::system(cmd.c_str());
+    std::ifstream in(e);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    err = ss.str();
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  const SceneCase c{"axisymmetric", false};
+  // A missing symbol: one line, file:line:col of `library = ...`, non-zero exit.
+  const fs::path bad = scratch() / "bad_symbol.toml";
+  const std::string text =
+      scene_toml(c, "model = \"umat\"\nlibrary = \"" + mises_lib + "\"\nprops = [1.0]\n");
+  std::ofstream(bad) << text;
+  const auto line =
+      1 + std::count(text.begin(), text.begin() + static_cast<long>(text.find("library =")), '\n');
+  std::string err;
+  CHECK(run("check " + bad.string(), err) != 0);
+  INFO(err);
+  CHECK(err.find(bad.string() + ":" + std::to_string(line) + ":11 [materials.m] library = ") !=
+        std::string::npos);
+  CHECK(err.find("has no symbol 'umat_'") != std::string::npos);
+  CHECK(std::count(err.begin(), err.end(), '\n') == 1);
+
+  // A UMAT that returns NaN: the run stops after its cut-backs with a message and exit 1.
+  const fs::path nan = scratch() / "nan.toml";
+  std::ofstream(nan) << scene_toml(c, c_mises(1000.0, 0.3, 1e9, 0.0, 0, ", 0.0, 1e-3, 0"));
+  const int code = run("run " + nan.string() + " --out " + (scratch() / "nan_out").string(), err);
+  INFO(err);
+  CHECK(code != 0);
+  CHECK(err.find("non-finite STRESS") != std::string::npos);
+}
