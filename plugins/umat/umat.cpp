@@ -128,6 +128,8 @@ STRATUM_PLUGIN(registry) {
       .defaults_to(std::string());
   s.integer("ntens", "-",
             "NTENS: 0 automatic (4 when the out-of-plane shears yz, zx are zero, else 6), 4 or 6")
+      .at_least(0)
+      .at_most(6)
       .defaults_to(0LL);
   s.real("celent", "m", "CELENT: characteristic element length passed to the UMAT")
       .greater_than(0.0)

@@ -109,6 +109,17 @@ public:
   [[nodiscard]] const Settings& settings() const { return s_; }
 
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
+    Outcome o = call(in, out);
+    if (!o.ok()) { // leave the committed state in the outputs: nothing of a failed call survives
+      out.stress = in.stress_n;
+      for (std::size_t i = 0; i < out.history.size(); ++i)
+        out.history[i] = i < in.history_n.size() ? in.history_n[i] : 0.0;
+    }
+    return o;
+  }
+
+private:
+  [[nodiscard]] Outcome call(const MaterialInput& in, MaterialOutput& out) const {
     const bool plane = s_.ntens == 4 || (s_.ntens == 0 && in_plane(in.stress_n, in.strain_n, in.dstrain));
     const Layout l = plane ? Layout::plane() : Layout::three_d();
     if (s_.ntens == 4 && !in_plane(in.stress_n, in.strain_n, in.dstrain))
@@ -175,7 +186,6 @@ public:
     return Outcome::success();
   }
 
-private:
   static std::string number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.6g", v);
