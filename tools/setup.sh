@@ -6,7 +6,7 @@ set -euo pipefail
 
 STRATUM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 STRATUM_BUILD="${STRATUM_BUILD:-$STRATUM_ROOT/build/release}"
-STRATUM_PACKAGES=(cmake ninja-build g++ pkg-config libeigen3-dev libboost-dev libboost-filesystem-dev libboost-serialization-dev libvtk9-dev
+STRATUM_PACKAGES=(cmake ninja-build g++ gfortran pkg-config libeigen3-dev libboost-dev libboost-filesystem-dev libboost-serialization-dev libvtk9-dev
   libsundials-dev libtomlplusplus-dev catch2 libsuitesparse-dev libopenblas0-pthread python3-matplotlib
   libopenmpi-dev openmpi-bin
   ${STRATUM_EXTRA_PACKAGES:-})

@@ -994,6 +994,24 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   out.point_fields = {std::move(disp), std::move(reac)};
   Field stress{"stress", 6, {}}, set_id{"set_id", 1, {}};
   Field ip_stress{"stress", 6, {}}, ip_strain{"strain", 6, {}}, ip_plastic{"plastic", 1, {}};
+  // Named history components (Material::history_names()): one scalar field per name over all
+  // integration points; NaN where a domain's material has no component of that name.
+  std::vector<Field> ip_history;
+  std::vector<std::vector<int>> history_index(m.domains.size()); // field -> history slot, per domain
+  if (ip_output)
+    for (std::size_t d = 0; d < m.domains.size(); ++d) {
+      if (!m.domains[d].law.material) continue;
+      const auto names = m.domains[d].law.material->history_names();
+      const auto n =
+          std::min<std::size_t>(names.size(), static_cast<std::size_t>(m.domains[d].states.history_size()));
+      for (std::size_t k = 0; k < n; ++k) {
+        std::size_t f = 0;
+        while (f < ip_history.size() && ip_history[f].name != names[k]) ++f;
+        if (f == ip_history.size()) ip_history.push_back(Field{names[k], 1, {}});
+        for (auto& idx : history_index) idx.resize(ip_history.size(), -1);
+        history_index[d][f] = static_cast<int>(k);
+      }
+    }
   std::size_t total_points = 0;
   for (const auto& dm : m.domains)
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)
@@ -1003,8 +1021,9 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   std::vector<int> nodes;
   Eigen::MatrixX2d x, xp;
   Eigen::VectorXd wts;
-  for (const auto& dm : m.domains)
-    for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
+  for (std::size_t d = 0; d < m.domains.size(); ++d)
+    for (std::size_t ci = 0; ci < m.domains[d].cells.size(); ++ci) {
+      const auto& dm = m.domains[d];
       const int c = dm.cells[ci];
       if (!m.is_active(c)) continue; // removed (bored) or not yet placed
       out.cells.push_back(c);
@@ -1022,6 +1041,11 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
           }
           ip_plastic.values.push_back(
               dm.law.material ? dm.law.material->point_status(slot.stress(), slot.history()) : -1.0);
+          for (std::size_t f = 0; f < ip_history.size(); ++f) {
+            const int k = history_index[d].empty() ? -1 : history_index[d][f];
+            ip_history[f].values.push_back(k >= 0 ? slot.history()[static_cast<std::size_t>(k)]
+                                                  : std::numeric_limits<double>::quiet_NaN());
+          }
         }
       }
       for (int k = 0; k < 6; ++k) stress.values.push_back(avg[k]);
@@ -1034,6 +1058,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
     }
   out.cell_fields = {std::move(stress), std::move(set_id)};
   if (ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain), std::move(ip_plastic)};
+  for (auto& f : ip_history) out.ip_fields.push_back(std::move(f));
   if (ip_output && !interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
   w.write(out);
   for (const auto& itf : interfaces.interfaces)

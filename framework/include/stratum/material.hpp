@@ -14,6 +14,8 @@
 #include "stratum/voigt.hpp"
 
 #include <span>
+#include <string>
+#include <vector>
 
 namespace stratum {
 
@@ -67,6 +69,11 @@ public:
   /// The constitutive update. Must fill out.stress, out.history and (when in.want_tangent)
   /// out.tangent.
   [[nodiscard]] virtual Outcome update(const MaterialInput& in, MaterialOutput& out) const = 0;
+
+  /// Names of the first history components, written as integration-point output fields (one
+  /// scalar each, beside "plastic"; NaN at the points of materials without that name); empty
+  /// (the default) writes none. May be shorter than history_size(): the rest is not written.
+  [[nodiscard]] virtual std::vector<std::string> history_names() const { return {}; }
 };
 
 } // namespace stratum
