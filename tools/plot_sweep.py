@@ -43,7 +43,7 @@ def quantile(values, q):
     return v[lo] + (h - lo) * (v[hi] - v[lo])
 
 
-def tornado(rows, quantity, out):
+def tornado(rows, quantity, out, title=None):
     if "varied" not in rows[0]:
         sys.exit("plot_sweep: tornado needs a one_at_a_time study (a 'varied' column)")
     if quantity not in rows[0]:
@@ -81,13 +81,14 @@ def tornado(rows, quantity, out):
     ax.set_yticks(range(len(bars)), [t[1] for t in bars], fontsize=8)
     ax.axvline(b, color="black", lw=1)
     ax.set_xlabel(f"{quantity} (base run {b:g})")
-    ax.set_title("one at a time: low (blue) and high (red) setting, largest effect on top", fontsize=9)
+    ax.set_title((title + "\n" if title else "") +
+                 "one at a time: low (blue) and high (red) setting, largest effect on top", fontsize=9)
     fig.tight_layout()
     fig.savefig(out, dpi=130)
     print(f"wrote {out}")
 
 
-def band(rows, name, out, xlabel, ylabel, invert):
+def band(rows, name, out, xlabel, ylabel, invert, title=None, field=None, curves=()):
     cols = [c for c in rows[0] if c.startswith(name + "@")]
     if not cols:
         sys.exit(f"plot_sweep: no columns '{name}@x'; columns: {', '.join(rows[0])}")
@@ -112,12 +113,27 @@ def band(rows, name, out, xlabel, ylabel, invert):
     if both:
         ax.fill_between([p[0] for p in both], [p[1] for p in both], [p[2] for p in both],
                         color="tab:blue", alpha=0.15, zorder=2)
+    if field:  # a field test file (docs/validation/field_test.csv): its piles and their mean
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import field_compare
+
+        fl, fm, piles = field_compare.read_field(field)
+        for k, c in enumerate(piles):
+            ax.plot(fl, c, "o", ms=3.5, color="0.35", zorder=4, label="field test, piles 1-3" if k == 0 else None)
+        ax.plot(fl, fm, "k-", lw=2, zorder=4, label="field test, mean")
+    for spec in curves:  # other load-settlement curves (CSV=LABEL), e.g. the Class-A record
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        import field_compare
+
+        path, _, label = spec.partition("=")
+        cl, cs = field_compare.read_curve(path)
+        ax.plot(cl, cs, "-", color="tab:red", lw=1.5, zorder=4, label=label or path)
     ax.set_xlabel(xlabel or name + " abscissa")
     ax.set_ylabel(ylabel or name)
     if invert:
         ax.invert_yaxis()
     note = f"{len(ok)} samples" + (f", {failed} failed (left out)" if failed else "")
-    ax.set_title(f"5 / 50 / 95 % band, {note}", fontsize=9)
+    ax.set_title((title + "\n" if title else "") + f"5 / 50 / 95 % band, {note}", fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -134,15 +150,18 @@ def main():
     ap.add_argument("--x-label")
     ap.add_argument("--y-label")
     ap.add_argument("--invert-y", action="store_true", help="y grows downwards (settlement)")
+    ap.add_argument("--title", help="a first title line (the model, the study)")
+    ap.add_argument("--field", help="band: also draw a field test file (load_kN, pileN_mm columns) and its mean")
+    ap.add_argument("--curve", action="append", default=[], help="band: also draw CURVE.csv[=LABEL] (load_kN, settlement_mm)")
     a = ap.parse_args()
     rows = read(a.samples)
     if not rows:
         sys.exit(f"plot_sweep: {a.samples} has no samples")
     out = a.out or os.path.join(os.path.dirname(a.samples) or ".", f"{a.kind}_{a.name}.png")
     if a.kind == "tornado":
-        tornado(rows, a.name, out)
+        tornado(rows, a.name, out, a.title)
     else:
-        band(rows, a.name, out, a.x_label, a.y_label, a.invert_y)
+        band(rows, a.name, out, a.x_label, a.y_label, a.invert_y, a.title, a.field, a.curve)
 
 
 if __name__ == "__main__":
