@@ -88,8 +88,8 @@ struct StageResult {
   int steps_done = 0;
   int cutbacks = 0;
   int error_rejections = 0; ///< converged steps repeated smaller because of the error estimate
-  double lambda = 0.0;  ///< load factor reached
-  bool stopped = false; ///< ended by the stop predicate or max_steps (path following)
+  double lambda = 0.0;      ///< load factor reached
+  bool stopped = false;     ///< ended by the stop predicate or max_steps (path following)
 };
 
 /// Runs the steps of one stage. On entry u holds the converged unknowns at
