@@ -212,12 +212,13 @@ double interpolate(const std::vector<std::pair<double, double>>& c, double v, bo
 TEST_CASE("the default loess pile scene against its converged reference curve",
           "[loess_pile][cli][reference]") {
   // tests/data/loess_pile_reference.csv: the default scene's whole curve with 0.0625 kN load
-  // steps (its header says how and at which commit it was computed). The scene itself loads in
-  // the 2.5 kN steps of the Class-A record; the explicit update is first order in the step, so
-  // its settlement is too small by the step error, which grows towards failure
-  // (docs/validation/loess_pile.md, "Step-size check"; docs/benchmarks.md). The bounds are that
-  // step error as measured, with a margin: a solver that accepted states on the wrong branches,
-  // or a changed model, moves the curve by more.
+  // steps (its header says how and at which commit it was computed). The scene loads in
+  // 0.625 kN steps; the explicit update is first order in the step, so its settlement is a
+  // little too small, more so towards failure (docs/benchmarks.md: +0.02, -0.14, -0.53 and
+  // -1.40 % at 15, 30, 45 and 60 kN, +0.97 % in the load at 27 mm). The bounds are the targets
+  // of issue 18 (1 % in settlement, 2 % in the load at 27 mm), except at 60 kN, which misses
+  // the 1 % and is held to 2.5 %. A solver that accepted states on the wrong branches, or a
+  // changed model, moves the curve by more.
   const auto ref = read_curve(fs::path(STRATUM_SOURCE_DIR) / "tests/data/loess_pile_reference.csv");
   REQUIRE(ref.size() > 500);
   const fs::path dir = fs::temp_directory_path() / ("stratum_loess_ref_" + std::to_string(::getpid()));
@@ -229,9 +230,9 @@ TEST_CASE("the default loess pile scene against its converged reference curve",
   REQUIRE(sh("cd " + dir.string() + " && " + exe + " run pile.toml --out out > run.txt 2>&1") == 0);
   const auto curve = read_curve(dir / "out" / "curves" / "load_settlement.csv");
   INFO(slurp(dir / "run.txt"));
-  // load (kN), largest relative deviation of the 2.5 kN programme from the reference
+  // load (kN), largest relative deviation from the reference
   const std::vector<std::pair<double, double>> bounds{
-      {15.0, 0.02}, {30.0, 0.02}, {45.0, 0.025}, {60.0, 0.12}};
+      {15.0, 0.01}, {30.0, 0.01}, {45.0, 0.01}, {60.0, 0.025}};
   for (const auto& [load, tol] : bounds) {
     const double w = interpolate(curve, load, false), w_ref = interpolate(ref, load, false);
     INFO(load << " kN: " << w << " mm against the reference " << w_ref << " mm");
