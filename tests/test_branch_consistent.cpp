@@ -7,9 +7,11 @@
 // end on E_ur with the closed-form increment, not on the E_t one.
 #include "duncan_chang/duncan_chang.hpp"
 #include "solver_helpers.hpp"
+#include "stratum/step_control.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -182,4 +184,78 @@ TEST_CASE("the explicit update's error estimate is Heun minus Euler, second orde
   CHECK(e1 / e2 == Approx(4.0).epsilon(0.1)); // second order: halving the increment quarters it
   // The stress itself stays Euler's (the model of the scene).
   CHECK((euler - (s + m.explicit_stiffness(m.point(s), 0.0) * de)).norm() < 1e-12 * s.norm());
+}
+
+namespace {
+
+/// R(u, lambda) = lambda - u (unit spring) whose materials would report a local error
+/// C (lambda - lambda_n)^2 of the step (second order in the step, like the Duncan-Chang estimate).
+class ErrorSpring final : public stratum::NonlinearProblem {
+public:
+  explicit ErrorSpring(double c) : c_(c), ls_(stratum::make_linear_solver("eigen_lu", false, 1)) {
+    ref_ = Eigen::VectorXd::Ones(1);
+  }
+  Eigen::Index size() const override { return 1; }
+  stratum::Outcome evaluate(const Eigen::VectorXd& u, double lambda, Eigen::VectorXd& r,
+                            stratum::SparseMatrix* k) override {
+    lambda_ = lambda;
+    r = Eigen::VectorXd::Constant(1, lambda - u[0]);
+    if (k) {
+      k->resize(1, 1);
+      k->insert(0, 0) = 1.0;
+      k->makeCompressed();
+    }
+    return {};
+  }
+  stratum::SparseMatrix make_tangent() const override { return stratum::SparseMatrix(1, 1); }
+  const Eigen::VectorXd& reference_load() const override { return ref_; }
+  stratum::LinearSolver& linear_solver() override { return *ls_; }
+  double force_scale(double lambda) const override { return std::max(1.0, std::abs(lambda)); }
+  double step_error() const override { return c_ * (lambda_ - committed_) * (lambda_ - committed_); }
+  void commit() { committed_ = lambda_; }
+
+private:
+  double c_, lambda_ = 0.0, committed_ = 0.0;
+  Eigen::VectorXd ref_;
+  std::unique_ptr<stratum::LinearSolver> ls_;
+};
+
+} // namespace
+
+TEST_CASE("error-controlled load steps keep every accepted step within the tolerance", "[solver]") {
+  auto solver = stratum::testing::load_solver("newton");
+  const double C = 100.0, tol = 1e-2; // steps of at most sqrt(tol / C) = 0.01 pass
+  stratum::StepSettings s;
+  s.steps = 4; // nominal 0.25: the controller must go well below it
+  s.max_cutbacks = 10;
+  s.error_tolerance = tol;
+  s.convergence.force_rtol = 1e-12;
+  ErrorSpring p(C);
+  stratum::StepCallbacks cb;
+  cb.commit = [&] { p.commit(); };
+  cb.revert = [] {};
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(1);
+  const stratum::StageResult res = stratum::run_stage(p, *solver->solver, s, cb, u);
+  REQUIRE(res.outcome.ok());
+  CHECK(res.lambda == Approx(1.0));
+  CHECK(u[0] == Approx(1.0));
+  CHECK(res.error_rejections > 0);
+  int accepted = 0;
+  for (const auto& r : res.records) {
+    if (!r.accepted) continue;
+    ++accepted;
+    CHECK(C * (r.lambda - r.lambda_n) * (r.lambda - r.lambda_n) <= tol * (1 + 1e-9));
+  }
+  // At least 1 / 0.01 steps, and not many more: after the first rejection the steps stay near
+  // the largest one allowed (0.9 of it by the safety factor, landing on the listed boundaries).
+  CHECK(accepted >= 100);
+  CHECK(accepted <= 130);
+  // Without the control the four listed steps are taken.
+  s.error_tolerance = 0.0;
+  ErrorSpring q(C);
+  cb.commit = [&] { q.commit(); };
+  u.setZero();
+  const stratum::StageResult plain = stratum::run_stage(q, *solver->solver, s, cb, u);
+  REQUIRE(plain.outcome.ok());
+  CHECK(plain.steps_done == 4);
 }
