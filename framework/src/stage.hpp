@@ -71,6 +71,7 @@ struct Stage {
   int steps = 1;
   std::vector<double> increments; ///< load-factor increments (sum 1); empty: `steps` equal ones
   int max_cutbacks = 4;
+  double error_tolerance = 0.0; ///< error-controlled load steps (step_control.hpp); 0: off
   std::vector<Action> actions;
   bool reset_after = false;     ///< zero the displacements at the end (geostatic stages)
   bool until_failure = false;   ///< a step that fails after its cut-backs ends the run normally

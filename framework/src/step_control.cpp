@@ -76,6 +76,8 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
   const double max_inc = s.max_increment > 0 ? s.max_increment : std::max(std::abs(range), nominal);
   int cuts_here = 0;
   bool recovering = false;
+  Eigen::VectorXd previous; // the last accepted step's increment (a solver may extrapolate it)
+  double previous_dlambda = 0.0;
   while (dir * (s.lambda_end - res.lambda) > eps) {
     if (res.steps_done >= s.max_steps) {
       res.outcome = Outcome::failure(
@@ -89,6 +91,10 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
     if (dir * (target - s.lambda_end) > -eps) target = s.lambda_end;
     req.lambda = target;
     req.convergence = s.convergence;
+    if (previous.size()) {
+      req.previous_increment = &previous;
+      req.previous_dlambda = previous_dlambda;
+    }
     Eigen::VectorXd trial = u;
     const auto t0 = Clock::now();
     if (cb.predict) cb.predict(problem, req.lambda_n, req.lambda, trial);
@@ -111,7 +117,30 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
       ++res.cutbacks;
       continue;
     }
+    const double taken = std::abs(req.lambda - req.lambda_n);
+    // Error control: the local error estimate of the converged step against the tolerance. The
+    // estimate is second order in the step (a first- against a second-order update), so the
+    // step scales with sqrt(tol / error), with a safety factor 0.9, within [1/4, 4].
+    double error_factor = 0.0;
+    if (s.error_tolerance > 0.0) {
+      const double e = problem.step_error();
+      error_factor = e > 0.0 ? std::clamp(0.9 * std::sqrt(s.error_tolerance / e), 0.25, 4.0) : 4.0;
+      const double floor = nominal * std::ldexp(1.0, -s.max_cutbacks);
+      if (e > s.error_tolerance && taken > floor * (1 + 1e-9)) {
+        call(cb.revert);
+        rec.accepted = false;
+        std::ostringstream m;
+        m << "local error estimate " << e << " above error_tolerance " << s.error_tolerance;
+        rec.message = m.str();
+        res.records.push_back(rec);
+        dl = std::max(floor, taken * std::min(error_factor, 0.9));
+        ++res.error_rejections;
+        continue;
+      }
+    }
     call(cb.commit);
+    previous = trial - u;
+    previous_dlambda = req.lambda - req.lambda_n;
     u = trial;
     res.lambda = req.lambda;
     ++res.steps_done;
@@ -121,7 +150,6 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
       res.stopped = true;
       return res;
     }
-    const double taken = std::abs(req.lambda - req.lambda_n);
     if (!s.automatic && dir * (res.lambda - boundary) > -eps) {
       ++entry;
       nominal = nominal_at(entry);
@@ -133,6 +161,11 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
         dl = std::min(nominal, 2 * taken);
       else if (rep.iterations <= s.fast_iterations)
         dl = std::min(max_inc, std::max(dl, taken) * s.growth);
+      if (dl >= nominal) recovering = false;
+    } else if (s.error_tolerance > 0.0) {
+      // The error sizes the next step (after a cut-back, at most double the taken one).
+      dl = std::min(nominal, taken * error_factor);
+      if (recovering) dl = std::min(dl, 2 * taken);
       if (dl >= nominal) recovering = false;
     } else {
       dl = recovering ? std::min(nominal, 2 * taken) : nominal;

@@ -64,6 +64,9 @@ struct Constants {
   int max_substeps = 1000;            ///< incremental update: more substeps than this fail the update
   double recovery_min_strain = 1e-6;  ///< recovery needs a major compressive strain above this
   bool tension_cutoff = true;
+  /// Explicit update: keep the branch decision of each point within a load step (decided at the
+  /// step's first evaluation, re-checked at convergence by the solver; `branch_iteration`).
+  bool keep_decisions = false;
   bool origin_at_initial_stress = true; ///< recovery: strains count from the CID state of the initial stress
   std::vector<double> levels;           ///< sigma_3 of the sets, increasing (empty: one set)
   std::vector<Set> sets;                ///< one per level (one when levels is empty)
@@ -159,7 +162,13 @@ public:
   explicit DuncanChang(Constants c) : c_(std::move(c)) {}
 
   [[nodiscard]] const Constants& constants() const { return c_; }
-  [[nodiscard]] int history_size() const override { return 8; }
+  /// 8, and 10 with keep_decisions: history[8] the branch decision of the step (0 decide afresh,
+  /// 1 E_ur, 2 split at the maximum, 3 E_t), history[9] the local error estimate of the update.
+  [[nodiscard]] int history_size() const override { return c_.keep_decisions ? 10 : 8; }
+  [[nodiscard]] int decision_slot() const override { return c_.keep_decisions ? 8 : -1; }
+  [[nodiscard]] double step_error(std::span<const double> h) const override {
+    return c_.keep_decisions && h.size() > 9 ? h[9] : 0.0;
+  }
   /// history[0]: largest stress level F_sr reached; history[1]: largest deviator q reached;
   /// history[2..7]: the strain origin of the recovery (Voigt, tension positive): the strain of a
   /// CID path from an isotropic state to the initial stress (recovery_origin = "initial_stress"),
@@ -171,6 +180,7 @@ public:
     const Vec6 e0 = c_.update == Update::recovery && c_.origin_at_initial_stress ? cid_strain(stress)
                                                                                  : Vec6::Zero().eval();
     for (int i = 0; i < 6; ++i) h[static_cast<std::size_t>(2 + i)] = e0[i];
+    for (std::size_t i = 8; i < h.size(); ++i) h[i] = 0.0;
   }
 
   /// The strain (tension positive) that a CID path from an isotropic state at sigma_3 reaches at
@@ -298,6 +308,12 @@ public:
     double too_large = 0.0;    ///< the strain increment when it needs more than max_substeps (else 0)
     bool cut = false;          ///< the tension cut-off changed the stress in some substep
     std::vector<double> alpha; ///< per substep: the fraction integrated on the E_ur branch
+    /// Explicit update, branch = increment: 1 E_ur, 2 split at the maximum, 3 E_t (0: not decided).
+    int code = 0;
+    /// The code is given (kept from earlier in the step, or frozen for the tangent's differences):
+    /// alpha of a split is still computed from the increment.
+    bool forced = false;
+    double error = 0.0; ///< explicit update: |Heun - Euler| / max(|stress|, p_a)
   };
 
   /// The explicit update's stiffness for a branch split alpha (the fraction on the E_ur branch):
@@ -349,7 +365,7 @@ public:
     Vec6 s = stress_n;
     for (int k = 0; k < rec.substeps; ++k) {
       double alpha;
-      if (replay)
+      if (replay && !rec.forced)
         alpha = rec.alpha[static_cast<std::size_t>(k)];
       else {
         const Point p0 = point(s);
@@ -361,21 +377,42 @@ public:
         } else {
           const Moduli mu = moduli(p0, true);
           const double ct = criterion(point(s + stiffness_kg(mu.K, mu.G) * dd));
-          if (below(ct, cmax))
+          // The increment rule: E_ur while the E_ur trial stays below the maximum (1), split
+          // where it crosses it from below (2), else E_t (3). A kept (forced) code only fixes
+          // which of the three; the split fraction follows the increment.
+          int code = rec.forced ? rec.code : 0;
+          if (code < 1 || code > 3) code = below(ct, cmax) ? 1 : (below(c0, cmax) && ct > c0 ? 2 : 3);
+          if (code == 1)
             alpha = 1.0;
-          else if (below(c0, cmax) && ct > c0)
-            alpha = std::clamp((cmax - c0) / (ct - c0), 0.0, 1.0);
+          else if (code == 2)
+            alpha = ct > c0 ? std::clamp((cmax - c0) / (ct - c0), 0.0, 1.0) : 1.0;
           else
             alpha = 0.0;
+          if (!replay) rec.code = code;
         }
-        rec.alpha[static_cast<std::size_t>(k)] = alpha;
+        if (!replay) rec.alpha[static_cast<std::size_t>(k)] = alpha;
       }
       if (c_.update == Update::explicit_step) {
         // The moduli of the step's start on both parts: the stress is linear in the increment
         // for a given branch split, so global Newton sees a piecewise-linear material.
         const Point p0 = point(s);
+        const Vec6 sn = s;
         if (alpha > 0.0) s += explicit_stiffness(p0, 1.0) * (alpha * dd);
         if (alpha < 1.0) s += explicit_stiffness(p0, 0.0) * ((1.0 - alpha) * dd);
+        if (c_.keep_decisions && !replay) {
+          // Heun's corrector over the same step with the same split (moduli averaged between the
+          // start and the Euler end): its difference from the Euler stress estimates the local
+          // error of the step (Sloan's substepping, lifted to the load step). Only the estimate:
+          // the stress stays Euler's (a second-order stress converges to another limit on the
+          // pile, README).
+          const Point p1 = point(s);
+          Vec6 sh = sn;
+          if (alpha > 0.0)
+            sh += 0.5 * (explicit_stiffness(p0, 1.0) + explicit_stiffness(p1, 1.0)) * (alpha * dd);
+          if (alpha < 1.0)
+            sh += 0.5 * (explicit_stiffness(p0, 0.0) + explicit_stiffness(p1, 0.0)) * ((1.0 - alpha) * dd);
+          rec.error = (sh - s).norm() / std::max(sh.norm(), c_.p_a);
+        }
       } else {
         if (alpha > 0.0) s = heun(s, alpha * dd, true);
         if (alpha < 1.0) s = heun(s, (1.0 - alpha) * dd, false);
@@ -519,7 +556,17 @@ public:
     if (!in.dstrain.allFinite() || !in.strain_n.allFinite() || !in.stress_n.allFinite())
       return Outcome::failure(Status::non_finite, "duncan_chang: non-finite strain or stress" + where());
     Record rec;
+    if (c_.keep_decisions) {
+      // The decision kept from earlier in this step (read before the history is written).
+      const double kept = out.history.size() > 8 ? out.history[8] : 0.0;
+      rec.code = static_cast<int>(kept);
+      rec.forced = rec.code >= 1 && rec.code <= 3;
+    }
     out.stress = evaluate(in, in.dstrain, out.history, rec, false);
+    if (c_.keep_decisions) {
+      out.history[8] = rec.code;
+      out.history[9] = rec.error;
+    }
     if (rec.too_large > 0.0) {
       std::ostringstream m;
       m << "duncan_chang: strain increment " << rec.too_large
@@ -532,7 +579,8 @@ public:
         return Outcome::failure(Status::non_finite, "duncan_chang: the stress is not finite" + where());
       return Outcome::success();
     }
-    if (c_.update == Update::explicit_step && !rec.cut) {
+    if (c_.keep_decisions) rec.forced = true; // differences keep the decision, not the split
+    if (c_.update == Update::explicit_step && !rec.cut && !(c_.keep_decisions && rec.code == 2)) {
       // The explicit update is linear in the increment for its branch split (moduli of the
       // step's start), so its tangent is that stiffness exactly: no differences needed. Where
       // the tension cut-off acted, the differences below include the cut-off's derivative.

@@ -37,6 +37,13 @@ inline void declare(Schema& s, Family fam) {
            "maximum (split where it crosses it); step_start = E_ur when the step's start state is below "
            "its maximum, else E_t, for every iterate of the step (the classical load-step rule)")
         .defaults_to(std::string("increment"));
+    s.text("branch_iteration", {"free", "consistent"},
+           "explicit update, branch = increment: free = every evaluation decides E_ur / split / E_t "
+           "from its own increment (the original iteration); consistent = each point decides at the "
+           "step's first evaluation and keeps that branch while the solver iterates, the solver "
+           "re-checks every decision at convergence and solves again where one changed (needs a "
+           "solver that renews decisions: newton); the converged states are the same rule's")
+        .defaults_to(std::string("free"));
   }
   s.text("unloading", {"F_sr", "max_deviator"},
          "unload/reload with E_ur when the stress level F_sr (4.50) or the deviator is below its maximum so "
@@ -128,6 +135,7 @@ inline Constants read(const Params& p, Family fam) {
                : up == "explicit" ? Update::explicit_step
                                   : Update::incremental;
     c.branch = p.text("branch") == "step_start" ? Branch::step_start : Branch::increment;
+    c.keep_decisions = p.text("branch_iteration") == "consistent";
     c.bulk_stress = p.text("bulk_stress") == "sigma_3" ? BulkStress::sigma_3 : BulkStress::sigma_m;
     c.nu_max = p.real("nu_max");
     c.nu_min = p.real("nu_min");
@@ -194,6 +202,12 @@ inline Constants read(const Params& p, Family fam) {
   if (c.branch == Branch::step_start && c.update != Update::explicit_step)
     fail("branch", "branch = \"step_start\" belongs to update = \"explicit\" (one step per increment); the "
                    "substepped updates decide the branch per substep");
+  if (c.keep_decisions && c.update != Update::explicit_step)
+    fail("branch_iteration", "branch_iteration = \"consistent\" belongs to update = \"explicit\" (one "
+                             "step per increment)");
+  if (c.keep_decisions && c.branch != Branch::increment)
+    fail("branch_iteration", "branch_iteration = \"consistent\" needs branch = \"increment\" (with "
+                             "step_start the branch does not depend on the increment)");
   if (c.update == Update::recovery) {
     if (c.form != Form::E_nu)
       fail("update", "update = \"recovery\" needs form = \"E_nu\": the recovery (4.49) inverts the "

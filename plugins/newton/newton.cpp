@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 namespace {
 
@@ -20,7 +21,9 @@ class Newton final : public Solver {
 public:
   explicit Newton(const Params& p)
       : divergence_factor_(p.real("divergence_factor")),
-        line_search_(static_cast<int>(p.integer("line_search"))) {}
+        line_search_(static_cast<int>(p.integer("line_search"))),
+        stall_iterations_(static_cast<int>(p.integer("stall_iterations"))),
+        stall_factor_(p.real("stall_factor")), max_resolves_(static_cast<int>(p.integer("max_resolves"))) {}
 
   StepReport solve(NonlinearProblem& problem, const StepRequest& req, Eigen::VectorXd& u) const override {
     StepReport rep;
@@ -31,9 +34,30 @@ public:
     Eigen::VectorXd r, du;
     double r0 = -1.0, e0 = -1.0;
     bool current = false; // r, k and the trial states already belong to u (from the line search)
+    // Branch decisions (Material::decision_slot): made afresh at the first evaluation of the step
+    // and kept while Newton iterates; at convergence every point decides again from the
+    // converged increment, and only when that evaluation also passes the tests is the step done.
+    const bool memory = problem.renew_decisions();
+    if (memory && req.previous_increment && req.previous_dlambda != 0.0 &&
+        req.previous_increment->size() == u.size()) {
+      // The first decisions are made at this iterate: extrapolate the last step's increment so
+      // that they see a realistic increment rather than none.
+      u += ((req.lambda - req.lambda_n) / req.previous_dlambda) * (*req.previous_increment);
+    }
+    bool renewed = true;     // the next evaluation decides afresh
+    bool free = false;       // after max_resolves: every evaluation decides afresh
+    bool rechecking = false; // that evaluation is the check of a converged iterate
+    int resolves = 0;
+    std::vector<double> window; // residuals since the last decisions (the contraction test)
     for (int it = 0;; ++it) {
-      if (!current)
+      bool decided = false;
+      if (free && !current) (void)problem.renew_decisions();
+      if (!current) {
         if (auto o = problem.evaluate(u, req.lambda, r, &k); !o.ok()) return fail(rep, o);
+        decided = renewed || free;
+        renewed = false;
+      } else
+        decided = free;
       const double rn = r.norm();
       rep.residual_norms.push_back(rn);
       if (!std::isfinite(rn)) return fail(rep, {Status::non_finite, "residual is NaN or Inf"});
@@ -41,12 +65,40 @@ public:
       const bool have = it > 0;
       const auto chk = iteration::check(c, rn, scale, have, have ? du.norm() : 0.0, (u - u_n).norm(),
                                         have ? std::abs(du.dot(r)) : 0.0, e0);
-      if (chk.converged()) return rep;
+      if (chk.converged()) {
+        if (!memory || decided) return rep;
+        // Converged with the step's decisions: check them against the converged increment.
+        if (!problem.renew_decisions()) return rep;
+        renewed = rechecking = true;
+        current = false;
+        continue;
+      }
+      if (rechecking) {
+        // Some point changed its branch at the converged increment: solve again from here
+        // with the new decisions (they are now the kept ones).
+        rechecking = false;
+        window.clear();
+        // Decisions that keep changing (a point whose two branches each ask for the other):
+        // iterate on with every evaluation deciding afresh, the original iteration, whose
+        // converged states are the same rule's; the contraction test ends it if it stalls.
+        if (++resolves >= max_resolves_) free = true;
+      }
       if (r0 < 0) r0 = rn;
       if (it > 1 && rn > divergence_factor_ * std::max(r0, c.force_atol)) {
         std::ostringstream m;
         m << "Newton diverged: |R| = " << rn << " after " << it << " iterations (first |R| = " << r0 << ")";
         return fail(rep, {Status::diverged, m.str()});
+      }
+      window.push_back(rn);
+      if (stall_iterations_ > 0 && static_cast<int>(window.size()) > stall_iterations_) {
+        const double before = window[window.size() - 1 - static_cast<std::size_t>(stall_iterations_)];
+        if (rn > stall_factor_ * before) {
+          std::ostringstream m;
+          m << "Newton not converging: |R| = " << rn << " after " << it << " iterations, above "
+            << stall_factor_ << " x its value " << stall_iterations_ << " iterations before (" << before
+            << "), bound " << std::max(c.force_rtol * scale, c.force_atol);
+          return fail(rep, {Status::not_converged, m.str()});
+        }
       }
       if (it >= c.max_iterations) {
         std::ostringstream m;
@@ -77,6 +129,9 @@ private:
   }
   double divergence_factor_;
   int line_search_;
+  int stall_iterations_;
+  double stall_factor_;
+  int max_resolves_;
 };
 
 } // namespace
@@ -91,6 +146,22 @@ STRATUM_PLUGIN(registry) {
       .at_least(0)
       .at_most(30)
       .defaults_to(0LL);
+  s.integer("stall_iterations", "-",
+            "contraction test: stop (and let the step be cut back) when |R| has not fallen below "
+            "stall_factor times its value this many iterations before; 0: off (only max_iterations)")
+      .at_least(0)
+      .at_most(100)
+      .defaults_to(0LL);
+  s.real("stall_factor", "-", "contraction required over stall_iterations iterations")
+      .greater_than(0)
+      .less_than(1)
+      .defaults_to(0.5);
+  s.integer("max_resolves", "-",
+            "materials that keep branch decisions within a step: how often a step whose converged "
+            "increment changed a decision is solved again before it fails (and is cut back)")
+      .at_least(0)
+      .at_most(100)
+      .defaults_to(4LL);
   registry.add(Factory<Solver>{.name = "newton",
                                .summary = "full Newton-Raphson, tangent refactorized every iteration",
                                .schema = std::move(s),

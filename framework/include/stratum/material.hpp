@@ -66,6 +66,18 @@ public:
     return -1;
   }
 
+  /// Branch decisions kept within a load step (docs/design.md, "Branch-consistent Newton"): a
+  /// material that returns a history index here keeps its discrete decisions (e.g. loading or
+  /// unloading) in that slot of its trial history. The framework guarantees that on entry to
+  /// update() out.history holds what the previous evaluation of the point wrote, except that
+  /// NonlinearProblem::renew_decisions() sets the slot to 0, which asks the material to decide
+  /// afresh from the increment. -1 (the default): the material keeps nothing between evaluations.
+  [[nodiscard]] virtual int decision_slot() const { return -1; }
+  /// The local error estimate of the update that wrote this trial history (e.g. the difference
+  /// of a second- and a first-order stress over the step, relative), for error-controlled load
+  /// steps; 0 (the default) when the material has none.
+  [[nodiscard]] virtual double step_error(std::span<const double> /*trial_history*/) const { return 0.0; }
+
   /// The constitutive update. Must fill out.stress, out.history and (when in.want_tangent)
   /// out.tangent.
   [[nodiscard]] virtual Outcome update(const MaterialInput& in, MaterialOutput& out) const = 0;

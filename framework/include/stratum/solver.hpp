@@ -41,6 +41,15 @@ public:
   /// A force scale for relative convergence tests (norm of external plus reaction forces).
   [[nodiscard]] virtual double force_scale(double lambda) const = 0;
 
+  /// Asks the materials that keep branch decisions within a step (Material::decision_slot) to
+  /// decide afresh at the next evaluation. False (the default) when no material keeps any: the
+  /// evaluations are then functions of u alone.
+  [[nodiscard]] virtual bool renew_decisions() { return false; }
+
+  /// The largest local error estimate (Material::step_error) of the last evaluation's trial
+  /// states; 0 (the default) when no material gives one.
+  [[nodiscard]] virtual double step_error() const { return 0.0; }
+
   /// Free-unknown indices of a named node set's component (0 = x, 1 = y), for displacement
   /// control; empty when the problem has no such set (the default).
   [[nodiscard]] virtual std::vector<Eigen::Index> node_set_dofs(const std::string& /*set*/,

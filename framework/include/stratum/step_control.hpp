@@ -8,6 +8,12 @@
 // `growth` after a step that converged in at most `fast_iterations` iterations,
 // up to max_increment.
 //
+// With error_tolerance > 0 a converged step is also checked against the materials' local
+// error estimate (NonlinearProblem::step_error): above the tolerance it is reverted and repeated
+// with a smaller increment (never below max_cutbacks halvings of the nominal one), and the next
+// increment is chosen from the estimate (at most the nominal one, landing on the listed
+// boundaries as without error control).
+//
 // Path following (Solver::path_following(): arc length, displacement control):
 // the controller passes a step size and the solver returns the load factor it
 // reached. The first size is `arc_length` (0: the solver derives it from the
@@ -41,6 +47,9 @@ struct StepSettings {
   double arc_length = 0.0;        ///< path following: first step size; 0: from the first increment
   double max_arc_length = 0.0;    ///< path following: bound on a grown step size; 0: none
   int max_steps = 10000; ///< accepted steps per stage (path following stops here, load control fails)
+  /// Load control: bound on NonlinearProblem::step_error() of a converged step; above it the step
+  /// is repeated smaller, below it the next one grows (at most to the listed increment). 0: off.
+  double error_tolerance = 0.0;
   Convergence convergence;
 };
 
@@ -78,8 +87,9 @@ struct StageResult {
   std::vector<StepReport> reports; ///< the solver's report of every attempt
   int steps_done = 0;
   int cutbacks = 0;
-  double lambda = 0.0;  ///< load factor reached
-  bool stopped = false; ///< ended by the stop predicate or max_steps (path following)
+  int error_rejections = 0; ///< converged steps repeated smaller because of the error estimate
+  double lambda = 0.0;      ///< load factor reached
+  bool stopped = false;     ///< ended by the stop predicate or max_steps (path following)
 };
 
 /// Runs the steps of one stage. On entry u holds the converged unknowns at
