@@ -294,6 +294,12 @@ TEST_CASE("hardening_soil: small-strain secant law, tangent floor and reversal",
     REQUIRE(h[hs::slot::status] == 1.0);
     pt = Point{s, h};
   }
+  // Continued primary loading: plastic, with the small-strain predictor (FD check of its tangent).
+  {
+    int st0 = -1;
+    CHECK(fd_error(*m, pt, (Vec6() << 2e-4, -1e-3, 2e-4, 1e-5, 0.0, -1e-5).finished(), st0) < 1e-6);
+    CHECK(st0 == 1);
+  }
   // Unloading along the isochoric triaxial direction d = (-1/2, 1, -1/2) t: gamma_hist = sqrt(3) t
   // and the change of sigma_yy - sigma_xx is 3 G_sec t.
   const Vec6 dir = diag(-0.5, 1.0, -0.5);

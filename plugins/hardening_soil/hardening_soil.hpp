@@ -45,7 +45,8 @@ using Mat3 = Eigen::Matrix3d;
 // ------------------------------------------------------------------------------------------
 // Forward-mode dual numbers with a fixed maximum number of derivatives.
 
-constexpr int max_unknowns = 8; // 3 stresses, gamma_p, p_p, up to 3 multipliers
+constexpr int max_active = 4;
+constexpr int max_unknowns = 5 + max_active; // 3 stresses, gamma_p, p_p, the multipliers
 
 struct Dual {
   double v = 0.0;
@@ -298,6 +299,9 @@ struct ReturnResult {
   Internal q;
   unsigned active = 0; ///< bitmask of active surfaces
   int iterations = 0;
+  bool converged = false;                  ///< Newton converged (ok also needs non-negative multipliers)
+  int most_negative = -1;                  ///< surface with the most negative multiplier, if any
+  std::array<double, max_active> lambda{}; ///< multipliers of the active surfaces (in surface order)
 };
 
 class PrincipalReturn {
@@ -308,10 +312,10 @@ public:
   [[nodiscard]] ReturnResult solve(unsigned mask, const Vec3& s_tr, const Internal& qn, const Mat3& Dp,
                                    double scale) const {
     ReturnResult out;
-    int act[3], na = 0;
+    int act[max_active], na = 0;
     for (int k = 0; k < n_surfaces; ++k)
       if (mask & (1u << k)) {
-        if (na == 3) return out;
+        if (na == max_active) return out;
         act[na++] = k;
       }
     const int n = 5 + na;
@@ -345,12 +349,19 @@ public:
       if (!lu.isInvertible()) return out;
       if (norm < tol) {
         out.ok = true;
+        out.converged = true;
         out.iterations = it;
         out.s = x.head<3>();
         out.q.gamma_p = x[3];
         out.q.p_p = x[4];
+        double lmin = 0.0;
+        for (int j = 0; j < na; ++j) out.lambda[static_cast<std::size_t>(j)] = x[5 + j];
         for (int j = 0; j < na; ++j)
-          if (x[5 + j] < -1e-12 * (1.0 + std::abs(x[5 + j]))) out.ok = false;
+          if (x[5 + j] < -1e-12 * (1.0 + std::abs(x[5 + j])) && x[5 + j] < lmin) {
+            out.ok = false;
+            lmin = x[5 + j];
+            out.most_negative = act[j];
+          }
         MatN rhs = MatN::Zero(n, 3);
         rhs.topRows(3) = Mat3::Identity() / scale;
         const MatN Z = lu.solve(rhs);
@@ -431,21 +442,31 @@ public:
     auto valid = [&](const ReturnResult& res) {
       return res.ok && most_violated(res.s, res.q, res.active, tol) < 0;
     };
-    if (std::popcount(mask) <= 3) {
+    while (std::popcount(mask) > max_active) { // keep the most violated
+      int least = -1;
+      for (int k = 0; k < n_surfaces; ++k)
+        if ((mask & (1u << k)) && (least < 0 || f[k] < f[least])) least = k;
+      mask &= ~(1u << least);
+    }
+    {
       unsigned cur = mask;
-      for (int round = 0; round < 8; ++round) {
+      for (int round = 0; round < 10 && cur != 0; ++round) {
         ReturnResult res = solve(cur, s_tr, qn, Dp, scale);
-        if (!res.ok) break;
+        if (!res.converged) break;
+        if (!res.ok) { // drop the surface with the most negative multiplier
+          cur &= ~(1u << res.most_negative);
+          continue;
+        }
         const int add = most_violated(res.s, res.q, res.active, tol);
         if (add < 0) return finish(res);
         unsigned next = cur | (1u << add);
         if (add == M) next &= ~(1u << S);
         if (add == S && (next & (1u << M))) break;
-        if (std::popcount(next) > 3 || next == cur) break;
+        if (std::popcount(next) > max_active || next == cur) break;
         cur = next;
       }
     }
-    for (int size = 1; size <= 3; ++size)
+    for (int size = 1; size <= max_active; ++size)
       for (unsigned m = 1; m < (1u << n_surfaces); ++m) {
         if (std::popcount(m) != size) continue;
         if ((m & (1u << S)) && (m & (1u << M))) continue;
@@ -686,47 +707,43 @@ public:
 
     if (p.small_strain) {
       Vec6 a = Eigen::Map<const Vec6>(&in.history_n[slot::strain_since_reversal]);
-      // Reversal: the deviatoric increment points against the deviatoric strain since the last reversal.
+      // Reversal: the deviatoric increment points against the deviatoric strain since the last
+      // reversal.
       const Vec6 da = strain_deviator_tensor(in.dstrain), an = strain_deviator_tensor(a);
       const double dot = da.head<3>().dot(an.head<3>()) + 2.0 * da.tail<3>().dot(an.tail<3>());
       if (dot < 0.0) {
         reset_reversal(in.stress_n, out.history);
         a.setZero();
       }
-      const Vec6 sr = Eigen::Map<const Vec6>(&out.history[slot::stress_at_reversal]);
-      const double G0 = out.history[slot::G0], K = out.history[slot::K], Gur = out.history[slot::Gur];
+      // Elastic predictor: the increment of the secant law between the strains since the
+      // reversal at the start and at the end of the step (telescoping along a branch).
+      Mat6 Dss;
+      const Vec6 s_end = secant_stress(out.history, a + in.dstrain, &Dss);
+      const Vec6 trial = in.stress_n + s_end - secant_stress(out.history, a, nullptr);
       a += in.dstrain;
-      const double gam = gamma_hist(a);
-      const auto [Gs, dGs] = secant_shear(G0, Gur, p.gamma_07, gam);
-      const Vec6 ad = strain_deviator_tensor(a);
-      const double ev = a[0] + a[1] + a[2];
-      Vec6 trial = sr;
-      for (int i = 0; i < 3; ++i) trial[i] += K * ev + 2.0 * Gs * ad[i];
-      for (int i = 3; i < 6; ++i) trial[i] += 2.0 * Gs * ad[i];
-      const Eigen::SelfAdjointEigenSolver<Mat3> es(to_tensor(trial), Eigen::EigenvaluesOnly);
-      const Vec3 st = -es.eigenvalues();
-      if (ret_.most_violated(st, qn, 0, 1e-9 * std::max(st.cwiseAbs().maxCoeff(), p.p_ref * 1e-3)) < 0) {
-        out.stress = trial;
-        if (in.want_tangent) {
-          out.tangent = isotropic_stiffness_KG(K, Gs);
-          if (gam > 0.0) {
-            Vec6 v = ad, g;
-            for (int i = 0; i < 3; ++i) g[i] = 2.0 * ad[i] / gam;
-            for (int i = 3; i < 6; ++i) g[i] = 2.0 * ad[i] / gam; // d gamma / d (engineering shear)
-            out.tangent += 2.0 * dGs * v * g.transpose();
-          }
-        }
-        for (int i = 0; i < 6; ++i) out.history[slot::strain_since_reversal + i] = a[i];
-        out.history[slot::status] = 0.0;
-        return check(out, where);
-      }
-      // Plastic: the standard return with E_ur, then a new reference state.
-      const Outcome o = plastic_update(in, qn, out, where);
-      if (!o.ok()) return o;
-      reset_reversal(out.stress, out.history);
-      return o;
+      for (int i = 0; i < 6; ++i) out.history[slot::strain_since_reversal + i] = a[i];
+      return plastic_update(in, qn, trial, Dss, out, where);
     }
-    return plastic_update(in, qn, out, where);
+    const Mat6 D = isotropic_stiffness(core_.Eur(sigma3(in.stress_n)), p.nu_ur);
+    return plastic_update(in, qn, in.stress_n + D * in.dstrain, D, out, where);
+  }
+
+  /// The small-strain secant law from the last reversal, K tr(a) 1 + 2 G_sec(gamma_hist) dev(a),
+  /// and (when asked) its derivative with respect to a.
+  [[nodiscard]] Vec6 secant_stress(std::span<const double> h, const Vec6& a, Mat6* tangent) const {
+    const double G0 = h[slot::G0], K = h[slot::K], Gur = h[slot::Gur];
+    const double gam = gamma_hist(a);
+    const auto [Gs, dGs] = secant_shear(G0, Gur, core_.params().gamma_07, gam);
+    const Vec6 ad = strain_deviator_tensor(a);
+    const double ev = a[0] + a[1] + a[2];
+    Vec6 s;
+    for (int i = 0; i < 3; ++i) s[i] = K * ev + 2.0 * Gs * ad[i];
+    for (int i = 3; i < 6; ++i) s[i] = 2.0 * Gs * ad[i];
+    if (tangent) {
+      *tangent = isotropic_stiffness_KG(K, Gs);
+      if (gam > 0.0) *tangent += (4.0 * dGs / gam) * ad * ad.transpose(); // d gamma/d a = 2 ad/gamma
+    }
+    return s;
   }
 
   [[nodiscard]] const Core& core() const { return core_; }
@@ -760,30 +777,55 @@ private:
   }
 
   template <class Where>
-  Outcome plastic_update(const MaterialInput& in, const Internal& qn, MaterialOutput& out,
-                         Where&& where) const {
+  /// The return from `trial` (d trial / d strain = Dtr) with the corrector stiffness of E_ur.
+  Outcome plastic_update(const MaterialInput& in, const Internal& qn, const Vec6& trial, const Mat6& Dtr,
+                         MaterialOutput& out, Where&& where) const {
     const Parameters& p = core_.params();
-    const Mat6 D = isotropic_stiffness(core_.Eur(sigma3(in.stress_n)), p.nu_ur);
-    const Vec6 trial = in.stress_n + D * in.dstrain;
-    const Eigen::SelfAdjointEigenSolver<Mat3> es(to_tensor(trial));
-    const Vec3 lam = es.eigenvalues();
-    const Mat3 V = es.eigenvectors();
-    const ReturnResult r = ret_(-lam, qn, D.topLeftCorner<3, 3>());
-    if (!r.ok)
-      return Outcome::failure(Status::material_failure,
-                              "hardening_soil: no admissible return found" + where());
-    out.history[slot::gamma_p] = r.q.gamma_p;
-    out.history[slot::p_p] = r.q.p_p;
-    out.history[slot::status] = static_cast<double>(r.active);
-    if (r.active == 0) {
-      out.stress = trial;
-      if (in.want_tangent) out.tangent = D;
+    const Mat3 Dp = isotropic_stiffness(core_.Eur(sigma3(in.stress_n)), p.nu_ur).topLeftCorner<3, 3>();
+    // One return from the whole trial; if no admissible active set exists (a trial far outside,
+    // where the non-associated surfaces meet), the trial increment is split into 2, 4, ..., 64
+    // sub-increments, each returned in turn. The tangent of a split step chains the
+    // sub-increments' tangents (holding the internal variables fixed: approximate there).
+    const Vec6 dtrial = trial - in.stress_n;
+    for (int n = 1; n <= 64; n *= 2) {
+      Vec6 s = in.stress_n;
+      Internal q = qn;
+      Mat6 T = Mat6::Zero();
+      unsigned active = 0;
+      bool ok = true;
+      for (int k = 0; k < n && ok; ++k) {
+        const Vec6 tr = s + dtrial / n;
+        const Eigen::SelfAdjointEigenSolver<Mat3> es(to_tensor(tr));
+        const Vec3 lam = es.eigenvalues();
+        const Mat3 V = es.eigenvectors();
+        const ReturnResult r = ret_(-lam, q, Dp);
+        if (!r.ok) {
+          ok = false;
+          break;
+        }
+        q = r.q;
+        active |= r.active;
+        if (r.active == 0) {
+          s = tr;
+          T += Dtr / n;
+        } else {
+          const Vec3 sig = -r.s;
+          s = to_voigt(V * sig.asDiagonal() * V.transpose());
+          if (in.want_tangent) T = spectral_tangent(lam, V, sig, r.jacobian) * (T + Dtr / n);
+        }
+        if (k + 1 == n) active = r.active;
+      }
+      if (!ok) continue;
+      out.history[slot::gamma_p] = q.gamma_p;
+      out.history[slot::p_p] = q.p_p;
+      out.history[slot::status] = static_cast<double>(active);
+      out.stress = s;
+      if (in.want_tangent) out.tangent = T;
       return check(out, where);
     }
-    const Vec3 sig = -r.s;
-    out.stress = to_voigt(V * sig.asDiagonal() * V.transpose());
-    if (in.want_tangent) out.tangent = spectral_tangent(lam, V, sig, r.jacobian) * D;
-    return check(out, where);
+    return Outcome::failure(Status::material_failure,
+                            "hardening_soil: no admissible return found (also in 64 sub-increments)" +
+                                where());
   }
 
   Core core_;
