@@ -239,10 +239,21 @@ public:
   }
 
   /// Yield value of surface k.
+  /// p, q~ and grad q~ of one stress, computed once and shared by the surfaces.
+  template <class T> struct Inv { T p, q, g[3]; };
+  template <class T> [[nodiscard]] Inv<T> inv(const T* s) const {
+    Inv<T> v;
+    invariants(s, v.p, v.q, v.g);
+    return v;
+  }
+
   template <class T> [[nodiscard]] T yield(int k, const T* s, const T& gp, const T& pp) const {
+    return yield(k, s, gp, pp, inv(s));
+  }
+  template <class T>
+  [[nodiscard]] T yield(int k, const T* s, const T& gp, const T& pp, const Inv<T>& v) const {
     if (k >= T0) return -s[k - T0] - p_.tension;
-    T p, q, g[3];
-    invariants(s, p, q, g);
+    const T &p = v.p, &q = v.q;
     switch (k) {
     case S: {
       const T s3 = p - q / 3.0, lev = level(s3), qa = q_a(s3);
@@ -260,13 +271,16 @@ public:
   /// Flow direction r_k (compression-positive plastic strain rate per unit multiplier) and the
   /// cap's hardening rate dp_p / dlambda.
   template <class T> void flow(int k, const T* s, const T& pp, T* r, T& dpp) const {
+    flow(k, pp, r, dpp, inv(s));
+  }
+  template <class T> void flow(int k, const T& pp, T* r, T& dpp, const Inv<T>& v) const {
     dpp = T(0.0);
     if (k >= T0) {
       for (int i = 0; i < 3; ++i) r[i] = T(i == k - T0 ? -1.0 : 0.0);
       return;
     }
-    T p, q, g[3];
-    invariants(s, p, q, g);
+    const T &p = v.p, &q = v.q;
+    const T* g = v.g;
     if (k == C) {
       const T pc = larger(p, T(0.0));
       const T A = sqrt(q * q / (k_.alpha * k_.alpha) + pc * pc);
@@ -326,6 +340,13 @@ public:
     x << s_tr[0], s_tr[1], s_tr[2], qn.gamma_p, qn.p_p, VecN::Zero(na);
     const double Eref = Dp(0, 0);
     auto eval = [&](const VecN& xv, VecN& Rv, MatN* Jv) {
+      if (!Jv) { // residual only (line search): plain doubles
+        double xd[max_unknowns], Rd[max_unknowns];
+        for (int i = 0; i < n; ++i) xd[i] = xv[i];
+        residual(xd, act, na, s_tr, qn, Dp, scale, Eref, Rd);
+        for (int i = 0; i < n; ++i) Rv[i] = Rd[i];
+        return;
+      }
       Dual xs[max_unknowns];
       for (int i = 0; i < n; ++i) {
         xs[i] = Dual(xv[i]);
@@ -488,9 +509,10 @@ private:
     const T& pp = x[4];
     T dep[3] = {T(0.0), T(0.0), T(0.0)};
     T dgp = T(0.0), dpp_total = T(0.0);
+    const auto v = core_.inv(s);
     for (int j = 0; j < na; ++j) {
       T r[3], dpp;
-      core_.flow(act[j], s, pp, r, dpp);
+      core_.flow(act[j], pp, r, dpp, v);
       const T& lam = x[5 + j];
       for (int i = 0; i < 3; ++i) dep[i] = dep[i] + lam * r[i];
       if (act[j] == S) dgp = dgp + lam;
@@ -503,7 +525,7 @@ private:
     }
     R[3] = (gp - qn.gamma_p - dgp) * (Eref / scale);
     R[4] = (pp - qn.p_p - dpp_total) / scale;
-    for (int j = 0; j < na; ++j) R[5 + j] = core_.yield(act[j], s, gp, pp) / scale;
+    for (int j = 0; j < na; ++j) R[5 + j] = core_.yield(act[j], s, gp, pp, v) / scale;
   }
 
   const Core& core_;
