@@ -370,3 +370,44 @@ TEST_CASE("hardening_soil: bad parameters are located errors", "[hardening_soil]
   ss.replace(ss.find("K0_nc = 0.5"), 11, "K0_nc = 0.5\nsmall_strain = true");
   CHECK_THROWS_AS(stratum::PointDriver::from_string(ss, "bad.toml", {STRATUM_PLUGIN_DIR}), stratum::Error);
 }
+
+TEST_CASE("hardening_soil: the loess point inputs", "[hardening_soil]") {
+  const double sp = std::sin(deg(26.0)), cp = std::cos(deg(26.0)), c = 10.0;
+  auto run = [](const std::string& name) {
+    auto d = stratum::PointDriver::from_file(
+        std::string(STRATUM_SOURCE_DIR) + "/inputs/point/" + name + ".toml", {STRATUM_PLUGIN_DIR});
+    auto r = d->run();
+    REQUIRE(r.outcome.ok());
+    return r;
+  };
+  // CID at 25, 40, 80 kPa: the end of the path is on the Mohr-Coulomb surface.
+  for (double s3 : {25.0, 40.0, 80.0}) {
+    INFO("sigma_3 = " << s3);
+    char name[32];
+    std::snprintf(name, sizeof name, "loess_hs_s%03d", static_cast<int>(s3));
+    const auto r = run(name);
+    const auto& last = r.rows.back();
+    CHECK(last.stress[0] - last.stress[1] == Approx(2.0 * (c * cp + s3 * sp) / (1.0 - sp)).epsilon(1e-8));
+  }
+  // Oedometer: tangent modulus at sigma_1 = 100 kPa is Eoed_ref = 8160 kPa (2 %).
+  {
+    const auto r = run("loess_hs_oedometer");
+    bool found = false;
+    for (std::size_t i = 1; i + 1 < r.rows.size(); ++i)
+      if (-r.rows[i].stress[1] <= 100.0 && -r.rows[i + 1].stress[1] > 100.0) {
+        const auto &a = r.rows[i - 1], &b = r.rows[i + 1];
+        CHECK((b.stress[1] - a.stress[1]) / (b.strain[1] - a.strain[1]) == Approx(8160.0).epsilon(0.02));
+        found = true;
+      }
+    CHECK(found);
+  }
+  // Small strain: load, unload 0.03 %, reload: back at the turning point the stress is the one
+  // before unloading (the branch is elastic and path independent).
+  {
+    const auto r = run("loess_hs_small_strain");
+    REQUIRE(r.rows.size() == 1 + 40 + 30 + 100);
+    const auto &turn = r.rows[40], &back = r.rows[85]; // 15 reloading steps of 2e-5
+    CHECK(back.strain[1] == Approx(turn.strain[1]).epsilon(1e-9));
+    CHECK((back.stress - turn.stress).norm() < 1e-8 * turn.stress.norm());
+  }
+}
