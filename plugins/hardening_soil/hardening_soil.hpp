@@ -13,7 +13,7 @@
 // deviatoric measure, equal to s1 - s3 in triaxial compression):
 //   0 S  shear hardening   q_a q~/E50 - (2 q~/E_ur + gamma_p)(q_a - q~)      (hardens gamma_p)
 //   1 M  Mohr-Coulomb      q~ (3 - sin phi)/6 - p sin phi - c cos phi          (perfectly plastic)
-//   2 C  cap               sqrt(q~^2/alpha^2 + p^2) - p_p                       (hardens p_p)
+//   2 C  cap               sqrt(q~^2/alpha^2 + <p>^2) - p_p, <p> = max(p, 0)    (hardens p_p)
 //   3-5  tension cut-off   -s_i - T                                             (perfectly plastic)
 //
 // Header only, so the tests run exactly the plugin's code; hardening_soil.cpp adds the factory.
