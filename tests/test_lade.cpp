@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 
 namespace {
 
@@ -262,4 +263,65 @@ TEST_CASE("lade: drained triaxial path, dense sand: contraction, then dilation, 
   // Lade's failure criterion (I1^3/I3 - 27)(I1/pa)^m = eta1 at the peak (the hardening law's maximum).
   CHECK(fp_at_peak == Approx(c.eta1).epsilon(1e-3));
   CHECK(fp_at_peak <= c.eta1 * (1.0 + 1e-9));
+}
+
+TEST_CASE("lade: the peak of drained triaxial paths lies on the failure surface f_p = eta1", "[lade]") {
+  // For sigma3 = 50, 100, 200 kPa: the peak deviator of the path (the maximum of q over the
+  // axial strain, located by golden-section search on the last increment around the sampled
+  // maximum) against q_f solved from (I1^3/I3 - 27)(I1/pa)^m = eta1 with s = (s3 + q, s3, s3).
+  const ld::Constants c = dense_sand();
+  const ld::Lade mat(c);
+  for (double s3 : {50.0, 100.0, 200.0}) {
+    INFO("sigma3 = " << s3);
+    auto fp = [&](double q) {
+      const double I1 = 3.0 * s3 + q, I3 = (s3 + q) * s3 * s3;
+      return (I1 * I1 * I1 / I3 - 27.0) * std::pow(I1 / c.pa, c.m) - c.eta1;
+    };
+    double lo = 0.0, hi = 100.0 * s3;
+    for (int it = 0; it < 200 && hi - lo > 1e-13 * hi; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (fp(mid) < 0.0 ? lo : hi) = mid;
+    }
+    const double qf = 0.5 * (lo + hi);
+    // The path, sampled every 1e-4 of axial strain; keep the state before the sampled maximum.
+    const double dea = -1e-4;
+    Point p(mat, isotropic(s3));
+    Vec6 g = Vec6::Zero();
+    std::optional<Point> before(p), before2(p);
+    Vec6 g_before = g, g_before2 = g;
+    double q_best = -1.0;
+    for (int k = 0; k < 800; ++k) {
+      const Point keep = p;
+      const Vec6 gk = g;
+      REQUIRE(triaxial_step(p, dea, g, s3).ok());
+      const double q = p.stress[0] - p.stress[1];
+      if (q > q_best) {
+        q_best = q;
+        before2.emplace(*before), g_before2 = g_before;
+        before.emplace(keep), g_before = gk;
+      } else if (k > 10) {
+        break;
+      }
+    }
+    // q after one increment x from the state two samples before the maximum, x in [0, 3 dea].
+    auto q_at = [&](double x) {
+      Point t = *before2;
+      Vec6 gg = g_before2 * (x / dea);
+      REQUIRE(triaxial_step(t, x, gg, s3).ok());
+      return t.stress[0] - t.stress[1];
+    };
+    const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
+    double a = 0.0, b = 3.0 * dea;
+    double x1 = b - phi * (b - a), x2 = a + phi * (b - a), q1 = q_at(x1), q2 = q_at(x2);
+    for (int it = 0; it < 60; ++it) {
+      if (q1 > q2) {
+        b = x2, x2 = x1, q2 = q1, x1 = b - phi * (b - a), q1 = q_at(x1);
+      } else {
+        a = x1, x1 = x2, q1 = q2, x2 = a + phi * (b - a), q2 = q_at(x2);
+      }
+    }
+    const double q_peak = std::max(q1, q2);
+    CHECK(q_peak >= q_best); // the search refines the sampled maximum
+    CHECK(q_peak == Approx(qf).epsilon(1e-6));
+  }
 }

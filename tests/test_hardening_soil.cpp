@@ -1,0 +1,413 @@
+// Tests of the Hardening Soil plugin (plugins/hardening_soil): the closed forms of the drained
+// triaxial hyperbola, Mohr-Coulomb failure, the oedometer modulus, unloading-reloading with
+// E_ur, the small-strain secant law with its tangent floor and reversal rule, and the
+// consistent tangent against central finite differences in every regime.
+#include "hardening_soil/hardening_soil.hpp"
+
+#include "stratum/error.hpp"
+#include "stratum/point_driver.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace {
+
+using stratum::Mat6;
+using stratum::Vec6;
+namespace hs = stratum::hardening_soil;
+
+/// The test set (a loess-like silt): E50_ref 20 MPa, Eur_ref 60 MPa, m 0.5, c 10 kPa, phi 30 deg.
+hs::Parameters base_set() {
+  hs::Parameters p;
+  p.E50_ref = 20000.0;
+  p.Eoed_ref = 20000.0;
+  p.Eur_ref = 60000.0;
+  p.m = 0.5;
+  p.p_ref = 100.0;
+  p.nu_ur = 0.2;
+  p.c = 10.0;
+  p.phi = 30.0;
+  p.psi = 0.0;
+  p.Rf = 0.9;
+  p.K0_nc = 0.5;
+  return p;
+}
+
+const char* base_toml = R"(
+[material]
+model = "hardening_soil"
+E50_ref = 20000.0
+Eoed_ref = 20000.0
+Eur_ref = 60000.0
+m = 0.5
+p_ref = 100.0
+nu_ur = 0.2
+c = 10.0
+phi = 30.0
+psi = 0.0
+Rf = 0.9
+K0_nc = 0.5
+)";
+
+double deg(double d) { return d * std::acos(-1.0) / 180.0; }
+
+struct Point {
+  Vec6 stress = Vec6::Zero();
+  std::vector<double> h;
+};
+
+/// One update from a point; returns the outcome, fills stress, history and tangent.
+stratum::Outcome step(const hs::HardeningSoil& m, const Point& pt, const Vec6& de, Vec6& s,
+                      std::vector<double>& h, Mat6& T) {
+  h.assign(pt.h.size(), 0.0);
+  const Vec6 e0 = Vec6::Zero();
+  stratum::MaterialOutput out{s, h, T};
+  return m.update(stratum::MaterialInput{pt.stress, e0, pt.h, de, {0, 0}}, out);
+}
+
+/// Relative difference between the tangent and a central finite difference of the stress.
+double fd_error(const hs::HardeningSoil& m, const Point& pt, const Vec6& de, int& status) {
+  Vec6 s;
+  std::vector<double> h;
+  Mat6 T;
+  REQUIRE(step(m, pt, de, s, h, T).ok());
+  status = static_cast<int>(h[hs::slot::status]);
+  Mat6 F;
+  const double dh = 1e-7 * std::max(de.cwiseAbs().maxCoeff(), 1e-5);
+  for (int j = 0; j < 6; ++j) {
+    Vec6 dp = de, dm = de, sp, sm;
+    dp[j] += dh;
+    dm[j] -= dh;
+    Mat6 Tp;
+    std::vector<double> hp;
+    REQUIRE(step(m, pt, dp, sp, hp, Tp).ok());
+    REQUIRE(step(m, pt, dm, sm, hp, Tp).ok());
+    F.col(j) = (sp - sm) / (2.0 * dh);
+  }
+  return (F - T).norm() / std::max(T.norm(), 1.0);
+}
+
+std::unique_ptr<hs::HardeningSoil> make(const hs::Parameters& p) {
+  const auto cap = hs::calibrate_cap(p);
+  REQUIRE(cap.has_value());
+  return std::make_unique<hs::HardeningSoil>(p, (*cap)[0], (*cap)[1]);
+}
+
+Point at(const hs::HardeningSoil& m, const Vec6& stress) {
+  Point pt;
+  pt.stress = stress;
+  pt.h.assign(static_cast<std::size_t>(m.history_size()), 0.0);
+  m.init_history(stress, pt.h);
+  return pt;
+}
+
+Vec6 diag(double xx, double yy, double zz) {
+  Vec6 s = Vec6::Zero();
+  s << xx, yy, zz, 0, 0, 0;
+  return s;
+}
+
+} // namespace
+
+TEST_CASE("hardening_soil: drained triaxial hyperbola and Mohr-Coulomb failure", "[hardening_soil]") {
+  const hs::Parameters P = base_set();
+  const double sp = std::sin(deg(P.phi)), cp = std::cos(deg(P.phi));
+  for (double s3 : {50.0, 100.0, 200.0}) {
+    INFO("sigma_3 = " << s3);
+    const std::string text = std::string(base_toml) +
+                             "p_p0 = 100000.0\n[initial]\np = " + std::to_string(s3) +
+                             "\n[[paths]]\ntype = \"triaxial_drained\"\naxial_strain = -0.2\nsteps = 400\n";
+    auto d = stratum::PointDriver::from_string(text, "hs_triaxial.toml", {STRATUM_PLUGIN_DIR});
+    const auto run = d->run();
+    REQUIRE(run.outcome.ok());
+    const double E50 = P.E50_ref * std::pow((P.c * cp + s3 * sp) / (P.c * cp + P.p_ref * sp), P.m);
+    const double qf = 2.0 * (P.c * cp + s3 * sp) / (1.0 - sp), qa = qf / P.Rf;
+    int checked = 0;
+    for (std::size_t i = 1; i < run.rows.size(); ++i) {
+      const auto& r = run.rows[i];
+      const double q = r.stress[0] - r.stress[1], eps1 = -r.strain[1];
+      REQUIRE(r.stress[0] == Approx(-s3).epsilon(1e-9));
+      if (q < 0.995 * qf) {
+        CHECK(eps1 == Approx(qa * q / (2.0 * E50 * (qa - q))).epsilon(1e-4));
+        ++checked;
+      }
+    }
+    CHECK(checked > 50);
+    const auto& last = run.rows.back();
+    CHECK((last.stress[0] - last.stress[1]) == Approx(qf).epsilon(1e-8));
+  }
+}
+
+TEST_CASE("hardening_soil: oedometer tangent modulus at sigma_1 = p_ref is Eoed_ref", "[hardening_soil]") {
+  // K0_nc start at sigma_1 = 40 kPa on both the shear surface and the cap (OCR = 1); the
+  // tangent modulus d sigma_1 / d eps_1 where sigma_1 passes p_ref, by central differences of
+  // the driver's rows (steps of 2e-5 strain).
+  for (double c : {0.0, 10.0}) {
+    INFO("c = " << c);
+    const std::string text = std::string(base_toml) + "c = " + std::to_string(c) +
+                             "\n[initial]\nstress = [-20.0, -40.0, -20.0, 0.0, 0.0, 0.0]\n"
+                             "[[paths]]\ntype = \"oedometer\"\naxial_strain = -0.02\nsteps = 1000\n";
+    std::string t = text;
+    t.replace(t.find("c = 10.0\n"), 9, ""); // the set's c replaced by the loop's
+    auto d = stratum::PointDriver::from_string(t, "hs_oedometer.toml", {STRATUM_PLUGIN_DIR});
+    const auto run = d->run();
+    REQUIRE(run.outcome.ok());
+    bool found = false;
+    for (std::size_t i = 1; i + 1 < run.rows.size(); ++i) {
+      const double s1 = -run.rows[i].stress[1], s1n = -run.rows[i + 1].stress[1];
+      if (s1 <= 100.0 && s1n > 100.0) {
+        const auto &a = run.rows[i - 1], &b = run.rows[i + 1];
+        const double Eoed = (b.stress[1] - a.stress[1]) / (b.strain[1] - a.strain[1]);
+        CHECK(Eoed == Approx(20000.0).epsilon(0.02));
+        CHECK(run.rows[i].stress[0] / run.rows[i].stress[1] == Approx(0.5).epsilon(0.02));
+        found = true;
+      }
+    }
+    CHECK(found);
+  }
+}
+
+TEST_CASE("hardening_soil: unloading and reloading inside the surfaces with E_ur(sigma_3)",
+          "[hardening_soil]") {
+  hs::Parameters P = base_set();
+  P.p_p0 = 1e5; // the cap out of the way
+  auto m = make(P);
+  const double sp = std::sin(deg(P.phi)), cp = std::cos(deg(P.phi));
+  // Shear from isotropic 100 kPa (plastic), then unload and reload the axial stress elastically.
+  Point pt = at(*m, diag(-100, -100, -100));
+  Vec6 s;
+  std::vector<double> h;
+  Mat6 T;
+  REQUIRE(step(*m, pt, diag(2e-4, -2e-3, 2e-4), s, h, T).ok());
+  REQUIRE(h[hs::slot::status] == 1.0);
+  pt.stress = s;
+  pt.h = h;
+  const double s3 = -s[0]; // minor principal compression (the lateral stress)
+  const double Eur = P.Eur_ref * std::pow((P.c * cp + s3 * sp) / (P.c * cp + P.p_ref * sp), P.m);
+  const Mat6 D = stratum::isotropic_stiffness(Eur, P.nu_ur);
+  const Vec6 unload = diag(-P.nu_ur * 1e-4, 1e-4, -P.nu_ur * 1e-4); // uniaxial-stress unloading
+  Vec6 s1;
+  REQUIRE(step(*m, pt, unload, s1, h, T).ok());
+  CHECK(h[hs::slot::status] == 0.0);
+  CHECK((T - D).norm() / D.norm() < 1e-12);
+  const Vec6 ds = s1 - pt.stress;
+  CHECK(ds[1] / unload[1] == Approx(Eur).epsilon(1e-10));
+  CHECK(std::abs(ds[0]) < 1e-10 * std::abs(ds[1]));
+  // Reloading to the point of unloading: elastic all the way (E_ur at the unloaded sigma_3, which
+  // is unchanged), and the stress comes back to the one before unloading.
+  Point back{s1, h};
+  Vec6 s2;
+  std::vector<double> h2;
+  REQUIRE(step(*m, back, -unload, s2, h2, T).ok());
+  CHECK(h2[hs::slot::status] == 0.0);
+  CHECK((s2 - pt.stress).norm() < 1e-10 * pt.stress.norm());
+  CHECK(h2[hs::slot::gamma_p] == pt.h[hs::slot::gamma_p]);
+}
+
+TEST_CASE("hardening_soil: consistent tangent against finite differences in every regime",
+          "[hardening_soil]") {
+  hs::Parameters P = base_set();
+  P.p_p0 = 1e5;
+  auto m = make(P);
+  int st = -1;
+  SECTION("elastic") {
+    Point pt = at(*m, diag(-100, -150, -100));
+    pt.h[hs::slot::gamma_p] = 1.0;
+    CHECK(fd_error(*m, pt, (Vec6() << 1e-4, -2e-4, 5e-5, 3e-5, -1e-5, 2e-5).finished(), st) < 1e-6);
+    CHECK(st == 0);
+  }
+  SECTION("shear hardening, psi = 0 and psi = 10 deg") {
+    for (double psi : {0.0, 10.0}) {
+      hs::Parameters Q = P;
+      Q.psi = psi;
+      auto mq = make(Q);
+      const Point pt = at(*mq, diag(-100, -150, -100));
+      CHECK(fd_error(*mq, pt, (Vec6() << 3e-4, -1e-3, 2e-4, 1e-4, -5e-5, 3e-5).finished(), st) < 1e-6);
+      CHECK(st == (1 << hs::S));
+    }
+  }
+  SECTION("Mohr-Coulomb failure") {
+    const double sp = std::sin(deg(P.phi)), cp = std::cos(deg(P.phi));
+    const double qf = 2.0 * (P.c * cp + 100.0 * sp) / (1.0 - sp);
+    const Point pt = at(*m, diag(-100, -100 - 0.99 * qf, -100));
+    CHECK(fd_error(*m, pt, (Vec6() << 1.5e-2, -3e-2, 1.5e-2, 1e-4, 0.0, 3e-5).finished(), st) < 1e-6);
+    CHECK(st == (1 << hs::M));
+  }
+  SECTION("cap") {
+    hs::Parameters Q = base_set();
+    auto mq = make(Q);
+    Point pt = at(*mq, diag(-100, -110, -100));
+    pt.h[hs::slot::gamma_p] = 1.0; // shear surface far away
+    CHECK(fd_error(*mq, pt, (Vec6() << -5e-4, -6e-4, -4e-4, 1e-5, -2e-5, 1e-5).finished(), st) < 1e-6);
+    CHECK(st == (1 << hs::C));
+  }
+  SECTION("shear hardening and cap (oedometer from K0_nc)") {
+    hs::Parameters Q = base_set();
+    auto mq = make(Q);
+    const Point pt = at(*mq, diag(-50, -100, -50));
+    CHECK(fd_error(*mq, pt, (Vec6() << 1e-5, -1e-3, -1e-5, 1e-5, 0.0, -1e-5).finished(), st) < 1e-6);
+    CHECK(st == ((1 << hs::S) | (1 << hs::C)));
+  }
+  SECTION("tension cut-off: one plane and the apex") {
+    hs::Parameters Q = base_set();
+    Q.tension = 5.0;
+    auto mq = make(Q);
+    const Point pt = at(*mq, diag(-20, -20, -20));
+    CHECK(fd_error(*mq, pt, (Vec6() << 3e-3, -1e-4, -1e-4, 0.0, 0.0, 0.0).finished(), st) < 1e-6);
+    CHECK((st & (7 << hs::T0)) != 0); // one of the three tension planes
+    Vec6 s;
+    std::vector<double> h;
+    Mat6 T;
+    REQUIRE(step(*mq, pt, diag(5e-3, 5e-3, 5e-3), s, h, T).ok());
+    CHECK(s[0] == Approx(5.0).epsilon(1e-10));
+    CHECK(s[1] == Approx(5.0).epsilon(1e-10));
+    CHECK(s[2] == Approx(5.0).epsilon(1e-10));
+    CHECK(fd_error(*mq, pt, diag(5e-3, 5.1e-3, 4.9e-3), st) < 1e-6);
+  }
+}
+
+TEST_CASE("hardening_soil: small-strain secant law, tangent floor and reversal", "[hardening_soil]") {
+  hs::Parameters P = base_set();
+  P.p_p0 = 1e5;
+  P.small_strain = true;
+  P.G0_ref = 100000.0;
+  P.gamma_07 = 2e-4;
+  auto m = make(P);
+  const double sp = std::sin(deg(P.phi)), cp = std::cos(deg(P.phi)), a = 0.385;
+  auto G0_at = [&](double s3) {
+    return P.G0_ref * std::pow((P.c * cp + s3 * sp) / (P.c * cp + P.p_ref * sp), P.m);
+  };
+  auto Gur_at = [&](double s3) {
+    return P.Eur_ref * std::pow((P.c * cp + s3 * sp) / (P.c * cp + P.p_ref * sp), P.m) /
+           (2.0 * (1.0 + P.nu_ur));
+  };
+  // Primary shearing (plastic) from isotropic 100 kPa.
+  Point pt = at(*m, diag(-100, -100, -100));
+  Vec6 s;
+  std::vector<double> h;
+  Mat6 T;
+  for (int i = 0; i < 5; ++i) {
+    REQUIRE(step(*m, pt, diag(2e-4, -1e-3, 2e-4), s, h, T).ok());
+    REQUIRE(h[hs::slot::status] == 1.0);
+    pt = Point{s, h};
+  }
+  // Continued primary loading: plastic, with the small-strain predictor (FD check of its tangent).
+  {
+    int st0 = -1;
+    CHECK(fd_error(*m, pt, (Vec6() << 2e-4, -1e-3, 2e-4, 1e-5, 0.0, -1e-5).finished(), st0) < 1e-6);
+    CHECK(st0 == 1);
+  }
+  // Unloading along the isochoric triaxial direction d = (-1/2, 1, -1/2) t: gamma_hist = sqrt(3) t
+  // and the change of sigma_yy - sigma_xx is 3 G_sec t.
+  const Vec6 dir = diag(-0.5, 1.0, -0.5);
+  auto secant = [&](const Point& from, double gamma, Mat6& tangent) {
+    const double t = gamma / std::sqrt(3.0);
+    Vec6 s1;
+    std::vector<double> h1;
+    REQUIRE(step(*m, from, t * dir, s1, h1, tangent).ok());
+    CHECK(h1[hs::slot::status] == 0.0);
+    return ((s1[1] - s1[0]) - (from.stress[1] - from.stress[0])) / (3.0 * t);
+  };
+  const double s3r = -pt.stress[0], G0 = G0_at(s3r), Gur = Gur_at(s3r), g07 = P.gamma_07;
+  for (double g : {1e-5, 1e-4, g07}) {
+    INFO("gamma_hist = " << g);
+    CHECK(secant(pt, g, T) == Approx(G0 / (1.0 + a * g / g07)).epsilon(1e-4));
+    // The tangent along the path: d tau / d gamma = G0 / (1 + a gamma / gamma_07)^2.
+    const double tangent_shear = (T.row(1) - T.row(0)).dot(dir) / 3.0;
+    CHECK(tangent_shear == Approx(G0 / std::pow(1.0 + a * g / g07, 2)).epsilon(1e-8));
+  }
+  // Beyond the cut-off strain the tangent is G_ur.
+  const double gc = g07 / a * (std::sqrt(G0 / Gur) - 1.0);
+  (void)secant(pt, 1.2 * gc, T);
+  CHECK((T.row(1) - T.row(0)).dot(dir) / 3.0 == Approx(Gur).epsilon(1e-10));
+  (void)secant(pt, 0.9 * gc, T);
+  CHECK((T.row(1) - T.row(0)).dot(dir) / 3.0 > Gur);
+  // FD check of the small-strain tangent (unloading) at gamma = 1e-4 and beyond the cut-off.
+  int st = -1;
+  CHECK(fd_error(*m, pt, (1e-4 / std::sqrt(3.0)) * dir + diag(1e-6, 0, -2e-6), st) < 1e-6);
+  CHECK(st == 0);
+  CHECK(fd_error(*m, pt, (1.5 * gc / std::sqrt(3.0)) * dir, st) < 1e-6);
+  // Full reversal: unload to 2 gamma_07 in steps, then reload; the reloading branch follows the
+  // same law from the new reversal point with G0 at its sigma_3.
+  Point u = pt;
+  for (int i = 0; i < 4; ++i) {
+    REQUIRE(step(*m, u, (0.5 * g07 / std::sqrt(3.0)) * dir, s, h, T).ok());
+    REQUIRE(h[hs::slot::status] == 0.0);
+    u = Point{s, h};
+  }
+  // The first reloading step triggers the reset; after it the reference is u.
+  const double s3u = std::min({-u.stress[0], -u.stress[1], -u.stress[2]});
+  const double G0u = std::max(G0_at(s3u), Gur_at(s3u));
+  for (double g : {1e-5, 1e-4, g07}) {
+    INFO("reloading, gamma_hist = " << g);
+    const double t = -g / std::sqrt(3.0);
+    Vec6 s1;
+    std::vector<double> h1;
+    REQUIRE(step(*m, u, t * dir, s1, h1, T).ok());
+    CHECK(h1[hs::slot::status] == 0.0);
+    const double Gsec = ((s1[1] - s1[0]) - (u.stress[1] - u.stress[0])) / (3.0 * t);
+    CHECK(Gsec == Approx(G0u / (1.0 + a * g / g07)).epsilon(1e-4));
+  }
+  CHECK(fd_error(*m, u, (-1e-4 / std::sqrt(3.0)) * dir, st) < 1e-6);
+}
+
+TEST_CASE("hardening_soil: bad parameters are located errors", "[hardening_soil]") {
+  const std::string text = std::string(base_toml) + "[initial]\np = 100.0\n[[paths]]\ntype = \"oedometer\"\n"
+                                                    "axial_strain = -0.01\nsteps = 2\n";
+  std::string bad = text;
+  bad.replace(bad.find("Eur_ref = 60000.0"), 17, "Eur_ref = 30000.0");
+  try {
+    (void)stratum::PointDriver::from_string(bad, "bad.toml", {STRATUM_PLUGIN_DIR});
+    FAIL("no error");
+  } catch (const stratum::Error& e) {
+    CHECK(std::string(e.what()).find("bad.toml:6:") != std::string::npos);
+    CHECK(std::string(e.what()).find("2 E50_ref") != std::string::npos);
+  }
+  std::string ss = text + "";
+  ss.replace(ss.find("K0_nc = 0.5"), 11, "K0_nc = 0.5\nsmall_strain = true");
+  CHECK_THROWS_AS(stratum::PointDriver::from_string(ss, "bad.toml", {STRATUM_PLUGIN_DIR}), stratum::Error);
+}
+
+TEST_CASE("hardening_soil: the loess point inputs", "[hardening_soil]") {
+  const double sp = std::sin(deg(26.0)), cp = std::cos(deg(26.0)), c = 10.0;
+  auto run = [](const std::string& name) {
+    auto d = stratum::PointDriver::from_file(
+        std::string(STRATUM_SOURCE_DIR) + "/inputs/point/" + name + ".toml", {STRATUM_PLUGIN_DIR});
+    auto r = d->run();
+    REQUIRE(r.outcome.ok());
+    return r;
+  };
+  // CID at 25, 40, 80 kPa: the end of the path is on the Mohr-Coulomb surface.
+  for (double s3 : {25.0, 40.0, 80.0}) {
+    INFO("sigma_3 = " << s3);
+    char name[32];
+    std::snprintf(name, sizeof name, "loess_hs_s%03d", static_cast<int>(s3));
+    const auto r = run(name);
+    const auto& last = r.rows.back();
+    CHECK(last.stress[0] - last.stress[1] == Approx(2.0 * (c * cp + s3 * sp) / (1.0 - sp)).epsilon(1e-8));
+  }
+  // Oedometer: tangent modulus at sigma_1 = 100 kPa is Eoed_ref = 8160 kPa (2 %).
+  {
+    const auto r = run("loess_hs_oedometer");
+    bool found = false;
+    for (std::size_t i = 1; i + 1 < r.rows.size(); ++i)
+      if (-r.rows[i].stress[1] <= 100.0 && -r.rows[i + 1].stress[1] > 100.0) {
+        const auto &a = r.rows[i - 1], &b = r.rows[i + 1];
+        CHECK((b.stress[1] - a.stress[1]) / (b.strain[1] - a.strain[1]) == Approx(8160.0).epsilon(0.02));
+        found = true;
+      }
+    CHECK(found);
+  }
+  // Small strain: load, unload 0.03 %, reload: back at the turning point the stress is the one
+  // before unloading (the branch is elastic and path independent).
+  {
+    const auto r = run("loess_hs_small_strain");
+    REQUIRE(r.rows.size() == 1 + 40 + 30 + 100);
+    const auto &turn = r.rows[40], &back = r.rows[85]; // 15 reloading steps of 2e-5
+    CHECK(back.strain[1] == Approx(turn.strain[1]).epsilon(1e-9));
+    CHECK((back.stress - turn.stress).norm() < 1e-8 * turn.stress.norm());
+  }
+}
