@@ -177,7 +177,7 @@ TEST_CASE("paths: array elements, whole arrays scaled, [[stages]] by name, locat
                                 "[[parameters]]\nname = \"steps\"\npath = \"stages.loading.steps\"\n"
                                 "low = 30\nhigh = 90\n",
                          "s.toml");
-  CHECK(st.samples()[0].values == std::vector<double>{70.0, 1.0, 60.0});
+  CHECK(st.samples()[0].values == std::vector<double>{70.0, 1.0, 240.0}); // the scene's K[1] and steps
   auto t = toml::parse(st.scene_text(1)); // K1 low
   CHECK(t["materials"]["loess"]["K"][0].value<double>() == 500.0);
   CHECK(t["materials"]["loess"]["K"][1].value<double>() == 60.0);
