@@ -111,6 +111,13 @@ std::vector<Block> matrix(const fs::path& src, bool quick, bool full) {
   }
   add(st::variant(hypo, "phi=1", "[materials.loess]", "phi", "[1.0, 1.0]"), sv(newton), {"explicit"},
       pick({5}));
+  // Hardening Soil (an analysis after the field test): no integrator choice, Newton at 1 and 5
+  // loading steps; a run takes about a minute, so --quick (the CTest matrix) leaves it out.
+  if (!quick) {
+    auto hsoil = st::input_scene(src, "inputs/loess_pile/hardening_soil.toml");
+    hsoil.name = "loess_pile/hardening_soil";
+    add(hsoil, sv(newton), {}, pick({1, 5}));
+  }
   if (full) { // one block per scene: every solver, integrator and increment count
     std::vector<Block> f;
     for (auto& blk : b) {
