@@ -121,13 +121,14 @@ def band(rows, name, out, xlabel, ylabel, invert, title=None, field=None, curves
         for k, c in enumerate(piles):
             ax.plot(fl, c, "o", ms=3.5, color="0.35", zorder=4, label="field test, piles 1-3" if k == 0 else None)
         ax.plot(fl, fm, "k-", lw=2, zorder=4, label="field test, mean")
-    for spec in curves:  # other load-settlement curves (CSV=LABEL), e.g. the Class-A record
+    for k, spec in enumerate(curves):  # other load-settlement curves (CSV=LABEL), e.g. the Class-A record
         sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
         import field_compare
 
         path, _, label = spec.partition("=")
         cl, cs = field_compare.read_curve(path)
-        ax.plot(cl, cs, "-", color="tab:red", lw=1.5, zorder=4, label=label or path)
+        colour = ("tab:red", "tab:orange", "tab:purple", "tab:green")[k % 4]
+        ax.plot(cl, cs, "-", color=colour, lw=1.5, zorder=4, label=label or path)
     ax.set_xlabel(xlabel or name + " abscissa")
     ax.set_ylabel(ylabel or name)
     if invert:
