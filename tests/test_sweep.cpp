@@ -178,7 +178,7 @@ TEST_CASE("paths: array elements, whole arrays scaled, [[stages]] by name, locat
                                 "low = 30\nhigh = 90\n",
                          "s.toml");
   CHECK(st.samples()[0].values == std::vector<double>{70.0, 1.0, 240.0}); // the scene's K[1] and steps
-  auto t = toml::parse(st.scene_text(1)); // K1 low
+  auto t = toml::parse(st.scene_text(1));                                 // K1 low
   CHECK(t["materials"]["loess"]["K"][0].value<double>() == 500.0);
   CHECK(t["materials"]["loess"]["K"][1].value<double>() == 60.0);
   t = toml::parse(st.scene_text(4)); // K scaled by 1.2
