@@ -55,6 +55,13 @@ E = 1.0
 cells = "b"
 element = "quad"
 material = "m"
+[[constraints]]
+nodes = "bottom"
+ux = 0.0
+uy = 0.0
+[[loads]]
+type = "gravity"
+gamma = 1.0
 )");
   CHECK(an->opened_libraries().size() == 3);
 }

@@ -751,3 +751,36 @@ force = 100.0
   }
   CHECK(stage2 == 2);
 }
+
+TEST_CASE("scenes that would solve nothing or a singular system are refused with a located line",
+          "[stages][cli]") {
+  // Each of these ran to exit 0 on 997ba04: a trivial analysis, a zero load, a singular matrix
+  // "converged" in one iteration.
+  CHECK_THROWS_WITH(scene("stages = []\n" + column),
+                    Catch::Contains("test.toml:1:") && Catch::Contains("stages = [] holds no stage"));
+  CHECK_THROWS_WITH(scene(column), Catch::Contains("the scene applies nothing: no [[loads]], no [[stages]]"));
+  const std::string unheld = column.substr(0, column.find("[[constraints]]")) + R"(
+[[stages]]
+name = "weight"
+[[stages.actions]]
+type = "gravity"
+cells = "soil"
+gamma = 18.0
+)";
+  CHECK_THROWS_WITH(scene(unheld),
+                    Catch::Contains("test.toml:") && Catch::Contains("has no [[constraints]]"));
+  // A prescribed head settlement holds the model: no error for that reason.
+  const std::string pushed = unheld + R"(
+[[stages]]
+name = "push"
+[[stages.actions]]
+type = "load"
+cells = "bore"
+settlement = 0.01
+)";
+  try {
+    (void)scene(pushed);
+  } catch (const Error& e) {
+    CHECK(std::string(e.what()).find("has no [[constraints]]") == std::string::npos);
+  }
+}

@@ -716,6 +716,25 @@ void Analysis::Impl::build(const toml::table& root) {
   // ---- loads of a scene without stages, and the stages
   const auto legacy_loads = table_list(root, "loads");
   const auto stage_list = table_list(root, "stages");
+  if (const auto* st = root.get("stages"); st && stage_list.empty())
+    throw Error(location(*st), "stages = [] holds no stage; give at least one [[stages]] table, or leave "
+                               "the key out and load the scene with [[loads]]");
+  // Nothing holds the model: its matrix is singular (found on 997ba04: one "converged" iteration).
+  // A head pushed down by a prescribed settlement holds it too.
+  if (table_list(root, "constraints").empty()) {
+    bool prescribed = false;
+    for (const auto* st : stage_list)
+      for (const auto* a : table_list(*st, "actions")) prescribed = prescribed || a->get("settlement");
+    if (!prescribed)
+      throw Error(location(root),
+                  "the scene has no [[constraints]]: nothing holds the model against rigid-body "
+                  "motion (its matrix is singular); fix some nodes, e.g. [[constraints]] nodes = "
+                  "\"bottom\", ux = 0.0, uy = 0.0");
+  }
+  // A scene without stages whose [[loads]] are absent and whose constraints prescribe nothing.
+  if (stage_list.empty() && legacy_loads.empty() && model.prescribed.cwiseAbs().maxCoeff() == 0.0)
+    throw Error(location(root), "the scene applies nothing: no [[loads]], no [[stages]] and no non-zero "
+                                "[[constraints]] value; a run would solve a zero load");
   if (!stage_list.empty() && !legacy_loads.empty())
     throw Error(location(*legacy_loads.front()),
                 "[[loads]] cannot be combined with [[stages]]; give loads as actions of a stage");
