@@ -784,3 +784,44 @@ settlement = 0.01
     CHECK(std::string(e.what()).find("has no [[constraints]]") == std::string::npos);
   }
 }
+
+TEST_CASE("each stage gets its own solver: arc_length judges the work switch against the stage's own load",
+          "[stages][solver]") {
+  // Linear soil, two stages under arc length with the constant-work switch at S = 0.3: stage 1
+  // applies 10 kN, stage 2 another 1000 kN. Bergan's stiffness parameter S of a linear problem is
+  // 1 when its reference F.K^-1 F is the stage's own, so every step stays on the arc length and
+  // the load factor grows in equal steps. On 997ba04 arc_length kept stage 1's reference (1e4
+  // times smaller): S = 1e-4 switched stage 2 to constant work, whose steps shrink.
+  std::string text = column;
+  text.insert(text.find("[mesh]"), "solver = \"arc_length\"\n[solver]\nwork_switch = 0.3\n");
+  text += R"(
+[[stages]]
+name = "small"
+steps = 4
+[[stages.actions]]
+type = "load"
+name = "a"
+edges = "bore.top"
+force = 10.0
+[[stages]]
+name = "large"
+steps = 4
+[[stages.actions]]
+type = "load"
+name = "b"
+edges = "bore.top"
+force = 1000.0
+)";
+  auto a = scene(text, "two_stage_arc.toml");
+  const auto run = a->run();
+  INFO(run.outcome.message);
+  REQUIRE(run.outcome.ok());
+  std::vector<double> dl;
+  for (const auto& r : run.records)
+    if (r.accepted && r.stage == 2) dl.push_back(r.lambda - r.lambda_n);
+  REQUIRE(dl.size() >= 3);
+  for (std::size_t i = 1; i < dl.size(); ++i) {
+    CAPTURE(i, dl[0], dl[i]);
+    if (i + 1 < dl.size()) CHECK(dl[i] == Approx(dl[0]).epsilon(1e-6)); // the last may be clipped at 1
+  }
+}
