@@ -3,6 +3,7 @@
 #include "scene_helpers.hpp"
 
 #include "checkpoint.hpp"
+#include "output_folder.hpp"
 #include "stratum/error.hpp"
 #include "stratum/interfaces.hpp"
 
@@ -11,6 +12,11 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include <unistd.h>
 
 using namespace stratum;
 using stratum::testing::scene;
@@ -824,4 +830,82 @@ force = 1000.0
     CAPTURE(i, dl[0], dl[i]);
     if (i + 1 < dl.size()) CHECK(dl[i] == Approx(dl[0]).epsilon(1e-6)); // the last may be clipped at 1
   }
+}
+
+TEST_CASE("an output folder belongs to one run: a second run into it is refused, an earlier run's files move "
+          "aside",
+          "[stages][output]") {
+  // On 997ba04 two runs into one folder interleaved their .pvd entries, and a shorter rerun left
+  // the longer run's .vtu files and checkpoints beside its own .pvd.
+  namespace fs = std::filesystem;
+  const fs::path base = fs::temp_directory_path() / ("stratum_folder_test_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  const std::string dir = (base / "out").string();
+  auto make = [&](const std::string& text) {
+    RunOptions o;
+    o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+    o.out_dir = dir;
+    return Analysis::from_string(text, "mini_pile.toml", std::move(o));
+  };
+  std::string shorter = mini_pile;
+  shorter.replace(shorter.find("vtk = false"), 11, "vtk = true");
+  std::string longer = shorter;
+  longer.replace(longer.find("steps = 5"), 9, "steps = 8");
+  auto first = make(longer);
+  const auto s1 = first->run();
+  REQUIRE(s1.outcome.ok());
+  auto count = [&](const fs::path& d, const std::string& ext) {
+    int n = 0;
+    if (fs::is_directory(d))
+      for (const auto& e : fs::directory_iterator(d)) n += e.path().extension() == ext;
+    return n;
+  };
+  const int long_vtu = count(dir, ".vtu");
+  REQUIRE(long_vtu > 0);
+
+  SECTION("while a run holds the folder, another is refused at once") {
+    OutputFolder held(dir);
+    auto second = make(shorter);
+    CHECK_THROWS_WITH(second->run(), Catch::Contains("is being written by another stratum run"));
+  }
+  SECTION("a shorter rerun leaves none of the longer run's files beside its own") {
+    auto second = make(shorter);
+    const auto s2 = second->run();
+    REQUIRE(s2.outcome.ok());
+    const int short_vtu = count(dir, ".vtu");
+    CHECK(short_vtu < long_vtu);
+    // Every data file in the folder is one the new .pvd lists, and the .pvd lists each once.
+    std::stringstream text; // the grids' and the point clouds' collections
+    for (const std::string& p : {s2.pvd, (fs::path(dir) / "mini_pile_ip.pvd").string()}) {
+      std::ifstream pvd(p);
+      REQUIRE(pvd.good());
+      text << pvd.rdbuf();
+    }
+    const std::string t = text.str();
+    std::set<std::string> listed;
+    int entries = 0;
+    const std::regex file_re("file=\"([^\"]+)\"");
+    for (auto it = std::sregex_iterator(t.begin(), t.end(), file_re); it != std::sregex_iterator();
+         ++it, ++entries)
+      listed.insert((*it)[1]);
+    CHECK(static_cast<int>(listed.size()) == entries);
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const auto ext = e.path().extension();
+      if (ext == ".vtu" || ext == ".vtp") {
+        CAPTURE(e.path().filename().string());
+        CHECK(listed.count(e.path().filename().string()) == 1);
+      }
+    }
+    CHECK(count(base / "out" / "previous_run", ".vtu") == long_vtu);
+    CHECK(count(base / "out" / "checkpoints", ".ckpt") == 4);
+  }
+  SECTION("a path that is a file is refused") {
+    std::ofstream(base / "file") << "x";
+    RunOptions o;
+    o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+    o.out_dir = (base / "file").string();
+    auto c = Analysis::from_string(shorter, "mini_pile.toml", std::move(o));
+    CHECK_THROWS_WITH(c->run(), Catch::Contains("exists and is not a folder"));
+  }
+  fs::remove_all(base);
 }

@@ -1,6 +1,7 @@
 #include "stratum/analysis.hpp"
 
 #include "checkpoint.hpp"
+#include "output_folder.hpp"
 #include "pile_components.hpp"
 #include "scene_fingerprint.hpp"
 #include "scene_interfaces.hpp"
@@ -1466,6 +1467,13 @@ RunSummary Analysis::run() {
     summary.stages_done = c.stages_done;
   }
 
+  // The folder is this run's while it writes; what an earlier run left there moves aside (after
+  // a checkpoint in it was read above), so that no file of two runs mixes.
+  std::optional<OutputFolder> folder;
+  if (s.options.write_output) {
+    folder.emplace(summary.out_dir);
+    folder->move_aside_previous(fs::path(s.path).stem().string(), static_cast<int>(first));
+  }
   std::unique_ptr<VtkSeriesWriter> writer;
   if (s.options.write_output && s.vtk) {
     writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string());
