@@ -212,4 +212,17 @@ TEST_CASE("cli: stratum point runs the examples and writes CSV; malformed point 
   expect_one_line_error(stratum("point " + bad), bad + ":3:5 ", "[material] E = -5 is outside (0, inf)");
   expect_one_line_error(stratum("point /nonexistent/p.toml"), "/nonexistent/p.toml ",
                         "cannot open point file '/nonexistent/p.toml'");
+  // --out that is a symlink or a device is refused and left as it was (997ba04 replaced both).
+  const fs::path target = scratch() / "target.csv", link = scratch() / "link.csv";
+  fs::remove(link);
+  std::ofstream(target) << "kept\n";
+  fs::create_symlink(target, link);
+  const std::string ex = std::string(STRATUM_SOURCE_DIR) + "/inputs/point/elastic_paths.toml";
+  auto r = stratum("point " + ex + " --out " + link.string());
+  CHECK(r.code == 1);
+  CHECK(r.err.find("exists and is not a regular file") != std::string::npos);
+  CHECK(fs::is_symlink(link));
+  auto d = stratum("point " + ex + " --out /dev/null");
+  CHECK(d.code == 1);
+  CHECK(fs::is_character_file("/dev/null"));
 }

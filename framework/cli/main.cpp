@@ -113,6 +113,14 @@ int point(const std::vector<std::string>& args) {
   if (file.empty()) throw Error("no point file given (see stratum --help)");
   if (out.empty())
     out = (std::filesystem::path("out") / (std::filesystem::path(file).stem().string() + ".csv")).string();
+  // The CSV is written to a temporary file and renamed over the target: a symlink or a device
+  // there would be replaced by a regular file (as root, /dev/full was), so only a regular file
+  // or a new name is taken.
+  if (std::error_code ec; std::filesystem::exists(std::filesystem::symlink_status(out, ec)) &&
+                          !std::filesystem::is_regular_file(std::filesystem::symlink_status(out, ec)))
+    throw Error("--out '" + out +
+                "' exists and is not a regular file (a symlink, folder or device); give a new "
+                "or a regular file name");
   const auto driver = PointDriver::from_file(file);
   const PointRun r = driver->run();
   PointDriver::write_csv(r, out); // what was computed is kept, also after a failure
