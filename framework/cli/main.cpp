@@ -17,6 +17,8 @@
 
 #include <unistd.h>
 
+#include <csignal>
+
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
@@ -26,6 +28,20 @@
 #include <vector>
 
 namespace {
+
+/// The signal that asked the run to end (0: none). The one mutable global of the program: a
+/// signal handler can only reach a sig_atomic_t; the run polls it after every accepted step.
+volatile std::sig_atomic_t stop_signal = 0;
+
+extern "C" void on_stop_signal(int signo) { stop_signal = signo; }
+
+void catch_stop_signals() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
 
 using namespace stratum;
 
@@ -167,6 +183,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
     for (double x : r.residual_norms) std::cerr << " " << x;
     std::cerr << "\n";
   };
+  opts.interrupted = [] { return stop_signal != 0; };
   opts.on_step = [&](int step, int steps, double lambda, const StepReport& rep) {
     if (verbose) {
       return; // on_record prints the full line
@@ -183,6 +200,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
               << " plugin libraries)\n";
     return 0;
   }
+  catch_stop_signals();
   const RunSummary s = analysis->run();
   if (tty && !verbose) std::cerr << "\n";
   if (!s.outcome.ok()) {
@@ -210,6 +228,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
     std::cerr << "stratum: the step that stopped the run: " << s.stop_message << "\n";
   } else if (s.stop_reason == "settlement")
     std::cout << "stopped: the settlement limit of the stage is exceeded\n";
+
   if (!s.load_settlement.empty()) {
     std::cout << "\n  load (kN)   settlement (mm)\n";
     for (const auto& r : s.load_settlement)
@@ -219,6 +238,13 @@ int run(const std::vector<std::string>& args, bool check_only) {
   }
   for (const auto& c : s.checkpoints) std::cout << "checkpoint: " << c << "\n";
   if (!s.pvd.empty()) std::cout << "results: " << s.pvd << "\n";
+  if (s.stop_reason == "interrupted") {
+    const int signo = stop_signal;
+    std::cerr << "stratum: interrupted by " << (signo == SIGTERM ? "SIGTERM" : "SIGINT") << " in stage "
+              << s.stages_done + 1 << " after " << s.steps_done << " steps"
+              << "; the results computed so far are written to " << s.out_dir << "\n";
+    return 128 + signo;
+  }
   return 0;
 }
 

@@ -1395,10 +1395,12 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     if (written) timed(summary.times.output, [&] { write_step(*writer, time); });
     record();
   };
-  bool settled = false;
-  if (st.stop_settlement > 0 && monitor)
+  bool settled = false, interrupted = false;
+  const bool watch = st.stop_settlement > 0 && monitor;
+  if (watch || options.interrupted)
     cb.stop = [&](double, const Eigen::VectorXd&) {
-      return settled = mean_settlement(m, *monitor) > st.stop_settlement;
+      if (watch && (settled = mean_settlement(m, *monitor) > st.stop_settlement)) return true;
+      return interrupted = options.interrupted && options.interrupted();
     };
   solver = solver_factory->create(solver_params);
   StageResult res = stratum::run_stage(problem, *solver, settings, cb, u);
@@ -1422,6 +1424,10 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   }
   if (settled) {
     summary.stop_reason = "settlement";
+    return false;
+  }
+  if (interrupted) {
+    summary.stop_reason = "interrupted";
     return false;
   }
   if (st.reset_after) {

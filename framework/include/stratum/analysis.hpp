@@ -28,6 +28,9 @@ struct RunOptions {
   std::function<void(int step, int steps, double lambda, const StepReport&)> on_step;
   /// Called after every accepted step with its diagnostics record; may be empty.
   std::function<void(const StepRecord&)> on_record;
+  /// Polled after every accepted step; true ends the run there like an early stop
+  /// (stop_reason "interrupted"): what was computed is written. The CLI sets it from SIGINT/SIGTERM.
+  std::function<bool()> interrupted;
 };
 
 /// Where a run's time went (seconds, std::chrono::steady_clock) and how often each part ran.
@@ -51,8 +54,9 @@ struct RunSummary {
   std::vector<StepRecord> records; ///< diagnostics of every attempt (also in <out_dir>/diagnostics.csv)
   std::string pvd;                 ///< the .pvd collection written ("" when no output)
   std::string out_dir;
-  int stages_done = 0;     ///< stages completed (counting those before a restart)
-  std::string stop_reason; ///< why a stage ended early: "failure" (until_failure) or "settlement"
+  int stages_done = 0; ///< stages completed (counting those before a restart)
+  std::string
+      stop_reason; ///< why a stage ended early: "failure" (until_failure), "settlement" or "interrupted"
   std::string
       stop_message; ///< for "failure": the failed step's message (stage, load factors, solver, cut-backs)
   std::vector<std::string> checkpoints; ///< written, in order
