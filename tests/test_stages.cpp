@@ -909,3 +909,29 @@ TEST_CASE("an output folder belongs to one run: a second run into it is refused,
   }
   fs::remove_all(base);
 }
+
+TEST_CASE(
+    "mesh input errors are located: a missing or folder Gmsh file, repeated block names, meshes too large "
+    "for the machine",
+    "[stages][cli]") {
+  // On 997ba04 these were one line without file:line:col (or, for a folder, "expected
+  // $MeshFormat, found end of file"), and a 10 000 x 10 000 mesh ended in std::bad_alloc.
+  namespace fs = std::filesystem;
+  const std::string tail = "[materials.m]\nmodel = \"linear_elastic\"\nE = 1.0\n";
+  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"gmsh\"\nfile = \"no_such.msh\"\n" + tail),
+                    Catch::Contains("test.toml:3:8 [mesh] file = \"no_such.msh\": no such file"));
+  const fs::path dir =
+      fs::temp_directory_path() / ("stratum_mesh_dir_" + std::to_string(::getpid()) + ".msh");
+  fs::create_directories(dir);
+  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"gmsh\"\nfile = \"" + dir.string() + "\"\n" + tail),
+                    Catch::Contains("test.toml:3:8") && Catch::Contains("is not a regular file"));
+  fs::remove_all(dir);
+  const std::string block = "[[mesh.blocks]]\nname = \"a\"\nx = [0.0, 1.0]\ny = [0.0, 1.0]\n";
+  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"blocks\"\n" + block + block + tail),
+                    Catch::Contains("test.toml:7:1 [mesh] mesh block name 'a' is used more than once"));
+  CHECK_THROWS_WITH(
+      scene("[mesh]\ngenerator = \"blocks\"\n" + block + "nx = 10000\nny = 10000\n" + tail),
+      Catch::Contains("test.toml:1:1 [mesh] mesh blocks: 100000000 cells would need about 409.6 GB"));
+  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"blocks\"\n" + block + "nx = 30000\nny = 30000\n" + tail),
+                    Catch::Contains("test.toml:3:1 [mesh] mesh block 'a': 30000 x 30000 cells is too many"));
+}

@@ -556,7 +556,19 @@ void Analysis::Impl::build(const toml::table& root) {
         b.grade_x = bp.real("grade_x"), b.grade_y = bp.real("grade_y");
         blocks.push_back(b);
       }
-      model.mesh = generate_blocks(blocks, npc);
+      try {
+        model.mesh = generate_blocks(blocks, npc);
+      } catch (const Error& e) {
+        if (e.where().known()) throw;
+        // The generator names the block; locate the first block table that carries that name.
+        SourceLocation at = location(mt);
+        for (std::size_t i = 0; i < list.size(); ++i)
+          if (e.message().find("'" + blocks[i].name + "'") != std::string::npos) {
+            at = location(*list[i]);
+            if (e.message().find("used more than once") == std::string::npos) break;
+          }
+        throw Error(at, "[mesh] " + e.message());
+      }
       if (mp.text("transform") == "polar")
         for (auto& x : model.mesh.nodes) {
           const double r = x.x(), t = x.y() * std::numbers::pi / 180.0;
@@ -569,6 +581,12 @@ void Analysis::Impl::build(const toml::table& root) {
         throw Error(location(mt), "[mesh] generator = \"gmsh\" needs file = \"...\"");
       fs::path f = mp.text("file");
       if (f.is_relative()) f = fs::path(path).parent_path() / f;
+      std::error_code ec;
+      if (!fs::is_regular_file(f, ec))
+        throw Error(mp.where("file"), "[mesh] file = \"" + mp.text("file") + "\": " +
+                                          (fs::exists(f, ec) ? "is not a regular file (a folder?)"
+                                                             : "no such file ('" + f.string() + "')") +
+                                          "; give a Gmsh .msh 4.1 ASCII file");
       model.mesh = read_gmsh(f.string());
     }
     model.mesh.check();
