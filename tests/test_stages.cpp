@@ -935,3 +935,13 @@ TEST_CASE(
   CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"blocks\"\n" + block + "nx = 30000\nny = 30000\n" + tail),
                     Catch::Contains("test.toml:3:1 [mesh] mesh block 'a': 30000 x 30000 cells is too many"));
 }
+
+TEST_CASE("[output] pile_cells must name a cell set: located at check, not map::at in the run",
+          "[stages][cli]") {
+  std::string text = mini_pile;
+  text.replace(text.find("pile_cells = \"pile\""), 19, "pile_cells = \"piles\"");
+  CHECK_THROWS_WITH(scene(text),
+                    Catch::Contains("test.toml:") &&
+                        Catch::Contains("[output] pile_cells = \"piles\" is not a cell set of the mesh; "
+                                        "known: "));
+}

@@ -445,6 +445,7 @@ void Analysis::Impl::build(const toml::table& root) {
   ip_output = op.flag("integration_points");
   every = static_cast<int>(op.integer("every"));
   pile_cells = op.text("pile_cells");
+  const SourceLocation pile_cells_at = op.where("pile_cells");
 
   // ---- solver plugin
   {
@@ -590,6 +591,10 @@ void Analysis::Impl::build(const toml::table& root) {
       model.mesh = read_gmsh(f.string());
     }
     model.mesh.check();
+    if (!pile_cells.empty() && !model.mesh.cell_sets.count(pile_cells))
+      throw Error(pile_cells_at,
+                  "[output] pile_cells = \"" + pile_cells +
+                      "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
     if (model.formulation == Formulation::axisymmetric)
       for (std::size_t n = 0; n < model.mesh.nodes.size(); ++n)
         if (model.mesh.nodes[n].x() < -1e-12)
