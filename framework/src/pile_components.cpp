@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 
 namespace stratum {
 
@@ -11,38 +12,6 @@ namespace {
 
 // The edges of a quadrilateral cell by slot: corners a, b and the midside slot (thesis numbering).
 constexpr int edge_slots[4][3] = {{0, 1, 4}, {1, 2, 5}, {2, 3, 6}, {3, 0, 7}};
-
-/// int f(x) w(x) ds over the edge a-(mid)-b, w = r in axisymmetry and 1 in plane strain, with
-/// f interpolated from nodal values like the geometry (quadratic when the midside node exists).
-/// Three Gauss points: exact for the polynomials of a straight quadratic edge.
-template <class F> double edge_integral(const Model& m, int a, int b, int mid, F&& f) {
-  const double g = std::sqrt(0.6);
-  const double xs[3] = {-g, 0.0, g}, ws[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-  double sum = 0.0;
-  for (int q = 0; q < 3; ++q) {
-    const double s = xs[q];
-    double N[3], dN[3];
-    if (mid >= 0) {
-      N[0] = 0.5 * s * (s - 1), N[1] = 0.5 * s * (s + 1), N[2] = 1 - s * s;
-      dN[0] = s - 0.5, dN[1] = s + 0.5, dN[2] = -2 * s;
-    } else {
-      N[0] = 0.5 * (1 - s), N[1] = 0.5 * (1 + s), N[2] = 0.0;
-      dN[0] = -0.5, dN[1] = 0.5, dN[2] = 0.0;
-    }
-    const int ids[3] = {a, b, mid};
-    Eigen::Vector2d x = Eigen::Vector2d::Zero(), dx = Eigen::Vector2d::Zero();
-    double v = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      if (ids[k] < 0) continue;
-      x += N[k] * m.mesh.nodes[static_cast<std::size_t>(ids[k])];
-      dx += dN[k] * m.mesh.nodes[static_cast<std::size_t>(ids[k])];
-      v += N[k] * f(ids[k]);
-    }
-    const double w = m.formulation == Formulation::axisymmetric ? x.x() : 1.0;
-    sum += ws[q] * v * w * dx.norm();
-  }
-  return sum;
-}
 
 /// int w dA of a straight-sided quadrilateral cell (its corners), w as in edge_integral:
 /// the area, times the centroid's radius in axisymmetry (Pappus).
@@ -75,32 +44,43 @@ PileComponents::PileComponents(const Model& model, std::vector<int> pile_cells,
         top_ = std::max(top_, model.mesh.nodes[static_cast<std::size_t>(n)].y());
         bottom_ = std::min(bottom_, model.mesh.nodes[static_cast<std::size_t>(n)].y());
       }
+  // Head and toe: the horizontal edges of the pile cells at its top and bottom. The area mean of
+  // a nodal field over them is sum_a w_a v_a with w_a the consistent nodal load of a unit
+  // pressure (add_edge_pressure: exact for straight or parabolic edges, 2 pi r in axisymmetry)
+  // over its total, computed once here.
+  const double tol = 1e-9 * std::max(1.0, top_ - bottom_);
+  std::vector<Edge> head, toe;
+  for (int c : pile_cells_) {
+    const Cell& cell = model.mesh.cells[static_cast<std::size_t>(c)];
+    for (const auto& e : edge_slots) {
+      const Edge edge{cell.nodes[static_cast<std::size_t>(e[0])], cell.nodes[static_cast<std::size_t>(e[1])],
+                      cell.nodes[static_cast<std::size_t>(e[2])]};
+      const double ya = model.mesh.nodes[static_cast<std::size_t>(edge.a)].y();
+      const double yb = model.mesh.nodes[static_cast<std::size_t>(edge.b)].y();
+      if (std::abs(ya - yb) > tol) continue;
+      if (std::abs(ya - top_) <= tol) head.push_back(edge);
+      if (std::abs(ya - bottom_) <= tol) toe.push_back(edge);
+    }
+  }
+  auto weights = [&](const std::vector<Edge>& edges, std::vector<std::pair<int, double>>& w) {
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * static_cast<Eigen::Index>(model.mesh.nodes.size()));
+    add_edge_pressure(model.mesh, edges, 1.0, model.formulation, f);
+    double total = 0.0;
+    for (Eigen::Index n = 0; 2 * n + 1 < f.size(); ++n)
+      if (f[2 * n + 1] != 0.0) w.emplace_back(static_cast<int>(n), f[2 * n + 1]), total += f[2 * n + 1];
+    for (auto& [n, x] : w) x /= total;
+    return std::abs(total);
+  };
+  area_ = weights(head, head_weights_);
+  weights(toe, toe_weights_);
+  area_ /= model.formulation == Formulation::axisymmetric ? 2 * std::numbers::pi : 1.0;
 }
 
 PileComponents::Raw PileComponents::measure(Model& m) const {
   Raw r;
-  const double tol = 1e-9 * std::max(1.0, top_ - bottom_);
   auto settlement = [&](int n) { return -m.u[2 * n + 1]; };
 
-  // Head and toe: area means over the horizontal edges of the pile cells at its top and bottom.
-  double head = 0, head_area = 0, toe = 0, toe_area = 0, volume_strain = 0;
-  for (int c : pile_cells_) {
-    const Cell& cell = m.mesh.cells[static_cast<std::size_t>(c)];
-    for (const auto& e : edge_slots) {
-      const int a = cell.nodes[static_cast<std::size_t>(e[0])],
-                b = cell.nodes[static_cast<std::size_t>(e[1])];
-      const int mid = cell.nodes[static_cast<std::size_t>(e[2])];
-      const double ya = m.mesh.nodes[static_cast<std::size_t>(a)].y();
-      const double yb = m.mesh.nodes[static_cast<std::size_t>(b)].y();
-      if (std::abs(ya - yb) > tol) continue;
-      const bool at_top = std::abs(ya - top_) <= tol, at_toe = std::abs(ya - bottom_) <= tol;
-      if (!at_top && !at_toe) continue;
-      const double area = edge_integral(m, a, b, mid, [](int) { return 1.0; });
-      const double s = edge_integral(m, a, b, mid, settlement);
-      (at_top ? head : toe) += s;
-      (at_top ? head_area : toe_area) += area;
-    }
-  }
+  double volume_strain = 0;
   // Shortening: the integral of the vertical strain over the pile cells, at their points.
   std::vector<int> nodes;
   Eigen::MatrixX2d x;
@@ -121,9 +101,14 @@ PileComponents::Raw PileComponents::measure(Model& m) const {
     }
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  r.head = head_area > 0 ? head / head_area : nan;
-  r.base = toe_area > 0 ? toe / toe_area : nan;
-  r.shortening = head_area > 0 ? -volume_strain / head_area : nan;
+  auto area_mean = [&](const std::vector<std::pair<int, double>>& w) {
+    double v = 0.0;
+    for (const auto& [n, x] : w) v += x * settlement(n);
+    return w.empty() ? nan : v;
+  };
+  r.head = area_mean(head_weights_);
+  r.base = area_mean(toe_weights_);
+  r.shortening = area_ > 0 ? -volume_strain / area_ : nan;
 
   // Interfaces: the vertical force on the pile's nodes and the slip of the shaft's node pairs.
   std::map<int, std::array<double, 2>> slips; // pile node -> (y, slip)

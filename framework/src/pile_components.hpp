@@ -22,6 +22,7 @@
 #include "stratum/model.hpp"
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace stratum {
@@ -51,6 +52,9 @@ private:
   std::vector<std::size_t> interface_domains_;
   std::vector<char> pile_node_; ///< per mesh node: 1 when a pile cell uses it
   double top_ = 0, bottom_ = 0; ///< the pile's head and toe levels (y)
+  /// Per node of the head (toe) edges: its share of the area mean (sums to 1).
+  std::vector<std::pair<int, double>> head_weights_, toe_weights_;
+  double area_ = 0; ///< int w dA of the head, w = r (axisymmetric) or 1: the shortening's divisor
   bool have_reference_ = false;
   Raw reference_;
 };
