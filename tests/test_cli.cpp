@@ -5,12 +5,14 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -248,4 +250,53 @@ TEST_CASE("cli: SIGINT ends a run at its next step, writes what was computed and
   CHECK(fs::exists(out / "diagnostics.csv"));
   CHECK(fs::exists(out / "hardening_soil.pvd"));
   CHECK_FALSE(fs::exists(out / "diagnostics.csv.tmp"));
+}
+
+TEST_CASE("an until_failure stage tells a collapse (exit 0) from a numerical stop (exit 4)",
+          "[cli][stages]") {
+  // Found on 997ba04: both ended with exit 0 and the same "stopped:" line. Hill's cylinder loaded
+  // to 1.2 P_lim: with Newton and enough iterations the run stops as a collapse just below the
+  // closed-form limit P_lim = (2 / sqrt 3) sigma_y ln 2 (the mesh is coarse: within 3 %).
+  const std::string text = [] {
+    std::ifstream in(fs::path(STRATUM_SOURCE_DIR) / "tests" / "scenes" / "hill_to_collapse.toml");
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }();
+  REQUIRE(text.find("max_iterations = 30") != std::string::npos);
+  const double p_lim = 2.0 / std::sqrt(3.0) * 2.4e5 * std::log(2.0), p_target = 230511.6;
+  const auto collapse = stratum("run " + write_scene("hill_collapse.toml", text) + " --out hill_collapse");
+  INFO(collapse.out << collapse.err);
+  CHECK(collapse.code == 0);
+  CHECK(collapse.out.find("\nstopped: collapse: ") != std::string::npos);
+  // The last converged load factor, from diagnostics.csv (stage, step, accepted, lambda_n, lambda, ...).
+  double last = 0.0;
+  {
+    std::ifstream d(scratch() / "hill_collapse" / "diagnostics.csv");
+    std::string line;
+    std::getline(d, line);
+    const std::string head = line;
+    while (std::getline(d, line)) {
+      std::vector<std::string> f;
+      std::stringstream ls(line);
+      for (std::string x; std::getline(ls, x, ',');) f.push_back(x);
+      if (f.size() > 4 && f[2] == "1") last = std::stod(f[4]);
+    }
+    REQUIRE(head.rfind("stage,step,accepted,lambda_n,lambda", 0) == 0);
+  }
+  WARN("collapse at " << last * p_target / p_lim << " P_lim");
+  CHECK(last * p_target / p_lim > 0.97);
+  CHECK(last * p_target / p_lim < 1.0 + 1e-3);
+  // The same scene with two iterations per step: the first plastic steps fail while the cylinder
+  // is still nearly elastic (first yield at 0.54 P_lim): a numerical stop, exit 4, its own line.
+  std::string two = text;
+  two.replace(two.find("max_iterations = 30"), 19, "max_iterations = 2");
+  two.replace(two.find("max_cutbacks = 8"), 16, "max_cutbacks = 1");
+  const auto numerical = stratum("run " + write_scene("hill_numerical.toml", two) + " --out hill_numerical");
+  INFO(numerical.out << numerical.err);
+  CHECK(numerical.code == 4);
+  CHECK(numerical.out.find("\nstopped: numerical failure: ") != std::string::npos);
+  CHECK(numerical.out.find("this is not a collapse load") != std::string::npos);
+  // A numerical stop keeps what was computed: the diagnostics are written.
+  CHECK(fs::exists(scratch() / "hill_numerical" / "diagnostics.csv"));
 }

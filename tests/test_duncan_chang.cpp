@@ -413,6 +413,19 @@ TEST_CASE("duncan_chang: the rule between the loess sets (a) and (b)", "[duncan_
         "m.toml:1:17 [material] K has 2 values, so sigma3_levels must list 2 increasing sigma_3 values "
         "(kPa), one per set");
   CHECK(message(loess + "form = \"E_B\"\n") == "m.toml:11:8 [material] K_b is required for form = \"E_B\"");
+  // A list of one value is a list, not a number for every level (README; found on 997ba04:
+  // K = [500.0] beside two levels was broadcast silently). A plain number is broadcast.
+  std::string k1 = loess;
+  k1.replace(k1.find("K = [500, 70]"), 13, "K = [500.0]");
+  CHECK(message(k1) ==
+        "m.toml:2:5 [material] K is a list of 1 value but phi has 2; give one value per "
+        "sigma3_levels entry, or write it as a plain number (no brackets) to use it for every level");
+  std::string kn = loess;
+  kn.replace(kn.find("K = [500, 70]"), 13, "K = 500.0");
+  const dc::Constants broadcast = read(kn);
+  REQUIRE(broadcast.sets.size() == 2);
+  CHECK(broadcast.sets[0].K == 500.0);
+  CHECK(broadcast.sets[1].K == 500.0);
   std::string f0 = loess;
   f0.replace(f0.find("F = 0.22"), 8, "F = 0");
   CHECK(message(f0 + "update = \"recovery\"\n") ==
@@ -639,7 +652,7 @@ TEST_CASE("duncan_chang: the explicit update's closed-form tangent in every regi
     CAPTURE(rec.alpha[0]);
     CHECK(rec.alpha[0] > 0.0);
     CHECK(rec.alpha[0] < 1.0);
-    m.difference_tangent(in, rec, fd_out);
+    REQUIRE(m.difference_tangent(in, rec, fd_out));
     const Mat6 D = closed(s, rec.alpha[0]);
     CHECK((r.tangent - D).cwiseAbs().maxCoeff() == 0.0);
     CHECK((tangent - D).cwiseAbs().maxCoeff() < 1e-6 * D.cwiseAbs().maxCoeff());
@@ -883,4 +896,29 @@ TEST_CASE("duncan_chang: point_status marks failed and tension-cut points for th
   stratum::Vec6 cut = triaxial(20.0);
   cut[0] = 0.0; // a principal stress at zero: cut off in tension
   CHECK(m.point_status(cut, h) == 2);
+}
+
+TEST_CASE("duncan_chang: a recovery within the difference step of its domain's edge differences one-sided",
+          "[duncan_chang]") {
+  // The recovery needs a major compressive strain above recovery_min_strain. At e1 = min + 3e-8
+  // the tangent's central difference (step 1e-7) of the axial column leaves the domain on the
+  // minus side. Found on 997ba04: the replay then took the start stress as the perturbed stress,
+  // which made that column (sigma(e + h) - sigma_n) / 2h, a wrong number of order sigma / 2e-7.
+  // Now the column is the one-sided difference from the plus side: compare it with a forward
+  // difference of the update itself (step 1e-6, inside the domain).
+  auto c = constants(dc::Update::recovery);
+  c.recovery_min_strain = 1e-3; // the edge at a strain where the law is smooth on the scale 1e-6
+  const dc::DuncanChang m(c);
+  const double e1 = c.recovery_min_strain + 3e-8, lat = 0.18 * e1 / (1.0 - 20.0 * e1);
+  const Vec6 de = (Vec6() << lat, -e1, lat, 0, 0, 0).finished();
+  const std::vector<double> h0 = hist(0, 0);
+  const Result base = update(m, Vec6::Zero(), Vec6::Zero(), h0, de);
+  REQUIRE(base.o.ok());
+  REQUIRE(base.stress.cwiseAbs().maxCoeff() > 0.0);
+  Vec6 dp = de;
+  dp[1] -= 1e-6; // more compression: deeper inside the domain
+  const Vec6 forward = (update(m, Vec6::Zero(), Vec6::Zero(), h0, dp).stress - base.stress) / -1e-6;
+  const double err = (base.tangent.col(1) - forward).cwiseAbs().maxCoeff() / forward.cwiseAbs().maxCoeff();
+  REPORT("axial column at the recovery's edge: relative difference from a forward difference " << err);
+  CHECK(err < 1e-2);
 }

@@ -165,7 +165,8 @@ TEST_CASE("a pile loaded past its capacity stops cleanly and names the step that
   REQUIRE(sh("cd " + dir.string() + " && " + exe + " run pile.toml > run.txt 2> err.txt") == 0);
   const std::string out = slurp(dir / "run.txt"), err = slurp(dir / "err.txt");
   INFO(out << err);
-  CHECK(out.find("\nstopped: a load step did not converge after its cut-backs") != std::string::npos);
+  CHECK(out.find("\nstopped: collapse: a load step found no equilibrium after its cut-backs") !=
+        std::string::npos);
   const std::string lead =
       "stratum: the step that stopped the run: stage \"loading\": step from load factor ";
   const auto at = err.find(lead);

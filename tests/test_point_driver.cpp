@@ -112,3 +112,20 @@ TEST_CASE("point driver: every example in inputs/point runs; MCC examples reach 
   }
   CHECK(examples >= 3);
 }
+
+TEST_CASE("point driver: a state without stiffness is a failure, not rows of zero stress", "[point]") {
+  // Found on 997ba04: a Duncan-Chang point from p = 0 wrote 300 rows of zero stress with exit 0
+  // (E_i = K p_a (sigma_3 / p_a)^n = 0 at sigma_3 = 0). The same point from p = 25 kPa runs.
+  const std::string mat = "[material]\nmodel = \"duncan_chang\"\nK = 500.0\nn = 0.82\nR_f = 0.8\nphi = 26.0\n"
+                          "c = 0.0\nK_ur = 800.0\nG = 0.18\nF = 0.22\nd = 20.0\n";
+  const std::string path = "[[paths]]\ntype = \"triaxial_drained\"\naxial_strain = -0.01\nsteps = 20\n";
+  const auto zero =
+      PointDriver::from_string(mat + "[initial]\np = 0.0\n" + path, "p.toml", {STRATUM_PLUGIN_DIR})->run();
+  CHECK_FALSE(zero.outcome.ok());
+  CHECK(zero.outcome.message.find("no stiffness at its initial state") != std::string::npos);
+  CHECK(zero.rows.size() == 1); // the initial state only
+  const auto confined =
+      PointDriver::from_string(mat + "[initial]\np = 25.0\n" + path, "p.toml", {STRATUM_PLUGIN_DIR})->run();
+  CHECK(confined.outcome.ok());
+  CHECK(confined.rows.size() == 21);
+}

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -148,6 +149,7 @@ TEST_CASE("stability matrix, reduced: no crash, NaN/Inf or silent failure", "[st
   const auto dir = scratch("matrix");
   const auto t0 = std::chrono::steady_clock::now();
   int runs = 0, converged = 0;
+  std::vector<std::pair<std::string, std::string>> seen; // case, outcome
   for (const auto& s : scenes) {
     std::vector<std::string> integ{""};
     if (s.integ_key == "integrator")
@@ -166,6 +168,9 @@ TEST_CASE("stability matrix, reduced: no crash, NaN/Inf or silent failure", "[st
           INFO(s.name << ", " << (in.empty() ? "-" : in) << ", " << solver << ", " << n
                       << " increments: " << st::to_string(o.kind) << " (" << o.message << ")");
           CHECK_FALSE(st::is_bug(o.kind));
+          const std::string key =
+              s.name + " | " + (in.empty() ? "-" : in) + " | " + solver + " | " + std::to_string(n);
+          seen.emplace_back(key, st::to_string(o.kind));
           // The outputs were really read: diagnostics.csv at least, and numbers in it.
           CHECK(o.files_checked >= 1);
           CHECK(o.values_checked > 0);
@@ -175,8 +180,35 @@ TEST_CASE("stability matrix, reduced: no crash, NaN/Inf or silent failure", "[st
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   WARN(runs << " runs, " << converged << " converged, " << secs << " s");
-  // Most of the subset converges: a harness that failed every run would not pass.
-  CHECK(converged * 2 > runs);
+  // Each case pinned to its outcome (found on 997ba04: the matrix accepted any clean failure and
+  // needed only half of its cases to converge). The linear scenes converge with every solver and
+  // increment count; what does not converge, and why:
+  // - modified Newton keeps the first (elastic) matrix of a step: Hill's perfectly plastic
+  //   cylinder to 0.99 P_lim in one (or, with the consistent return, five) increments and the
+  //   Duncan-Chang sample at 0.99 q_f with the incremental update in 1 or 5 do not reach the
+  //   tolerance in max_iterations;
+  // - the strip footing with forward-Euler stresses (no consistent tangent) in 5 increments.
+  // A change either way (a new failure, or a case that starts converging) fails here and is
+  // looked at, then the table is updated with the reason.
+  const std::map<std::string, std::string> not_converged{
+      {"hill_cylinder | forward_euler | modified_newton | 1", "failed"},
+      {"hill_cylinder | closest_point | modified_newton | 1", "failed"},
+      {"hill_cylinder | closest_point | modified_newton | 5", "failed"},
+      {"hill_cylinder nu=0.499 | forward_euler | modified_newton | 1", "failed"},
+      {"hill_cylinder nu=0.499 | closest_point | modified_newton | 1", "failed"},
+      {"strip_footing | forward_euler | newton | 5", "failed"},
+      {"duncan_chang sample q/q_f=0.99 | incremental | modified_newton | 1", "failed"},
+      {"duncan_chang sample q/q_f=0.99 | incremental | modified_newton | 5", "failed"},
+  };
+  std::size_t pinned = 0;
+  for (const auto& [key, kind] : seen) {
+    const auto it = not_converged.find(key);
+    INFO(key);
+    CHECK(kind == (it == not_converged.end() ? "converged" : it->second));
+    pinned += it != not_converged.end();
+  }
+  CHECK(seen.size() == 74);
+  CHECK(pinned == not_converged.size()); // every pinned case ran
   std::error_code ec;
   fs::remove_all(dir.parent_path(), ec);
 }

@@ -945,3 +945,72 @@ TEST_CASE("[output] pile_cells must name a cell set: located at check, not map::
                         Catch::Contains("[output] pile_cells = \"piles\" is not a cell set of the mesh; "
                                         "known: "));
 }
+
+TEST_CASE("what a stage inherits: [analysis] steps cannot act beside [[stages]]; run-ending stages come last",
+          "[stages]") {
+  // Found on 997ba04: with [[stages]], [analysis] steps = 10 was silently ignored (each stage ran
+  // its own default of 1 step) while max_cutbacks was inherited. The rule (docs/scene.md): step
+  // control, max_cutbacks, error_tolerance, vtk and every are stage defaults; steps and
+  // increments belong to the stage.
+  std::string with_steps = column;
+  with_steps.replace(with_steps.find("formulation = \"axisymmetric\""), 28,
+                     "formulation = \"axisymmetric\"\nsteps = 10");
+  CHECK_THROWS_WITH(scene(with_steps + geostatic_stage()),
+                    Catch::Contains("test.toml:4:9 [analysis] steps cannot act in a scene with [[stages]]"));
+  std::string with_inc = column;
+  with_inc.replace(with_inc.find("formulation = \"axisymmetric\""), 28,
+                   "formulation = \"axisymmetric\"\nincrements = [0.5, 0.5]");
+  CHECK_THROWS_WITH(
+      scene(with_inc + geostatic_stage()),
+      Catch::Contains("test.toml:4:14 [analysis] increments cannot act in a scene with [[stages]]"));
+  // Without stages [analysis] steps acts (the one load case), and max_cutbacks is inherited.
+  CHECK_NOTHROW(scene(with_steps + "[[loads]]\ntype = \"gravity\"\ngamma = 18.0\ncells = \"soil\"\n"));
+  // A stage that can end the run is the last one (found on 997ba04: a loading stage placed first
+  // stopped the run with exit 0 and the later stages never ran).
+  auto stage = [](const std::string& keys) {
+    return "[[stages]]\nname = \"geostatic\"\n" + keys +
+           "[[stages.actions]]\ntype = \"geostatic\"\ngamma = 18.0\nK0 = 0.6\n";
+  };
+  const std::string later = "[[stages]]\nname = \"later\"\n[[stages.actions]]\ntype = \"deactivate\"\n"
+                            "cells = \"bore\"\n";
+  CHECK_THROWS_WITH(
+      scene(column + stage("until_failure = true\n") + later),
+      Catch::Contains("[[stages]] \"geostatic\" has until_failure = true, which ends the run, but "
+                      "stage \"later\" follows it"));
+  CHECK_THROWS_WITH(scene(column + stage("stop_settlement = 0.01\nmonitor = \"top\"\n") + later),
+                    Catch::Contains("[[stages]] \"geostatic\" has stop_settlement"));
+  CHECK_NOTHROW(scene(column + later + stage("until_failure = true\n")));
+  CHECK_THROWS_WITH(scene(column + stage("collapse_stiffness = 0.2\n")),
+                    Catch::Contains("collapse_stiffness acts only in a stage with until_failure = true"));
+  CHECK_NOTHROW(scene(column + stage("until_failure = true\ncollapse_stiffness = 0.2\n")));
+}
+
+TEST_CASE("diagnostics.csv and the curves grow while a stage runs (tables_every)", "[stages]") {
+  // Found on 997ba04: the tables were written only at the end, so a killed run lost them. With
+  // tables_every = 0 they are rewritten (atomically) after every step: at step k of the second
+  // stage, diagnostics.csv holds the first stage's step and k accepted steps of this one.
+  namespace fs = std::filesystem;
+  const fs::path out = fs::temp_directory_path() / ("stratum_tables_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  RunOptions o;
+  o.out_dir = out.string();
+  std::vector<std::size_t> rows_seen;
+  o.on_step = [&](int, int, double, const StepReport&) {
+    std::ifstream d(out / "diagnostics.csv");
+    std::size_t n = 0;
+    for (std::string line; std::getline(d, line);) ++n;
+    rows_seen.push_back(n);
+  };
+  const std::string text = column + "[output]\nvtk = false\ntables_every = 0.0\n" + geostatic_stage() +
+                           "[[stages]]\nname = \"load\"\nsteps = 4\n[[stages.actions]]\ntype = \"pressure\"\n"
+                           "edges = \"soil.top\"\np = 10.0\n";
+  auto a = Analysis::from_string(text, "test.toml", o);
+  const RunSummary s = a->run();
+  REQUIRE(s.outcome.ok());
+  // on_step runs before the step's tables are written: step k of stage 2 sees the header, stage 1's
+  // row and k - 1 rows of stage 2 (step 1 of stage 1 sees no file yet).
+  REQUIRE(rows_seen.size() == 5);
+  CHECK(rows_seen[0] == 0);
+  for (std::size_t k = 1; k <= 4; ++k) CHECK(rows_seen[k] == 2 + (k - 1));
+  fs::remove_all(out);
+}

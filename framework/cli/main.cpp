@@ -52,7 +52,10 @@ constexpr const char* usage =
     "       stratum plugins [--describe NAME]\n"
     "       stratum fit TARGET CSV... [-o FILE.toml]\n"
     "       stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]   (also under mpirun -n N)\n"
-    "       stratum --version\n";
+    "       stratum --version\n"
+    "exit status: 0 done (a collapse or a settlement limit of the last stage included), 1 bad input,\n"
+    "  2 a stage failed, 3 internal error, 4 an until_failure stage stopped by a numerical failure\n"
+    "  (not a collapse), 130/143 interrupted by SIGINT/SIGTERM\n";
 
 constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,
                                 PluginKind::solver};
@@ -221,9 +224,19 @@ int run(const std::vector<std::string>& args, bool check_only) {
               << " s\n"
               << std::defaultfloat;
   }
-  if (s.stop_reason == "failure") {
-    std::cout << "stopped: a load step did not converge after its cut-backs (collapse, or a numerical "
-                 "failure: see diagnostics.csv); the table ends at the last converged level\n";
+  if (s.stop_reason == "collapse" || s.stop_reason == "numerical") {
+    std::ostringstream ratio;
+    ratio << std::setprecision(3) << s.stiffness_ratio;
+    if (s.stop_reason == "collapse")
+      std::cout << "stopped: collapse: a load step found no equilibrium after its cut-backs, and the "
+                   "structure had lost its stiffness (the last converged step's is "
+                << ratio.str() << " of the stage's first); the table ends at the last converged level\n";
+    else
+      std::cout << "stopped: numerical failure: a load step did not converge after its cut-backs "
+                   "although the structure was still stiff (the last converged step's stiffness is "
+                << ratio.str()
+                << " of the stage's first): this is not a collapse load; the table ends at the last "
+                   "converged level (see diagnostics.csv)\n";
     // The failed step's message (its residual may be NaN) is a diagnostic, not a result: stderr.
     std::cerr << "stratum: the step that stopped the run: " << s.stop_message << "\n";
   } else if (s.stop_reason == "settlement")
@@ -245,7 +258,9 @@ int run(const std::vector<std::string>& args, bool check_only) {
               << "; the results computed so far are written to " << s.out_dir << "\n";
     return 128 + signo;
   }
-  return 0;
+  // A numerical stop is not a result: its own exit status, so that scripts and studies can tell it
+  // from a collapse (0) and from a failed stage (2).
+  return s.stop_reason == "numerical" ? 4 : 0;
 }
 
 } // namespace

@@ -281,6 +281,11 @@ Schema output_schema() {
   s.text("pile_head", {}, "edge set of the loaded pile head: curves/load_settlement.csv")
       .defaults_to(std::string());
   s.text("pile_cells", {}, "cell set of the pile: curves/axial_force.csv").defaults_to(std::string());
+  s.real("tables_every", "s",
+         "diagnostics.csv and the curves are rewritten (atomically) at every stage's end and at most "
+         "this often during a stage, so that they grow while a long run goes on; 0: after every step")
+      .at_least(0)
+      .defaults_to(5.0);
   return s;
 }
 
@@ -366,6 +371,10 @@ struct Analysis::Impl {
   bool run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
                  std::vector<std::array<double, 3>>& axial_rows);
   std::vector<std::array<double, 6>> shaft_rows; ///< load, y, shear, normal, slip (mm), status
+  void write_tables(const RunSummary& summary, const std::vector<std::array<double, 3>>& axial_rows,
+                    const std::vector<StepRecord>& live);
+  std::chrono::steady_clock::time_point last_tables = std::chrono::steady_clock::now();
+  double tables_every = 5.0; ///< seconds between rewrites of the tables during a stage
   void write_step(VtkSeriesWriter& w, double time) const;
 };
 
@@ -444,6 +453,7 @@ void Analysis::Impl::build(const toml::table& root) {
   vtk = op.flag("vtk");
   ip_output = op.flag("integration_points");
   every = static_cast<int>(op.integer("every"));
+  tables_every = op.real("tables_every");
   pile_cells = op.text("pile_cells");
   const SourceLocation pile_cells_at = op.where("pile_cells");
 
@@ -789,6 +799,26 @@ void Analysis::Impl::build(const toml::table& root) {
   } else {
     for (std::size_t i = 0; i < stage_list.size(); ++i)
       stages.push_back(parse_stage(*stage_list[i], "[[stages]] #" + std::to_string(i + 1), load_names));
+    // What a stage inherits (docs/scene.md "What a stage inherits"): [analysis] max_cutbacks,
+    // error_tolerance, the step-control keys, and [output] vtk and every are defaults of every
+    // stage; [analysis] steps and increments describe the one load case of a scene without
+    // stages and cannot act here (found on 997ba04: steps = 10 silently ran 1 step per stage).
+    if (const auto* at = root["analysis"].as_table())
+      for (const char* key : {"steps", "increments"})
+        if (const auto* v = at->get(key))
+          throw Error(location(*v), std::string("[analysis] ") + key +
+                                        " cannot act in a scene with [[stages]]: each stage gives its own " +
+                                        key + " (steps default to 1); move it into the stages");
+    // A stage that may end the run early (until_failure, stop_settlement) must be the last one:
+    // otherwise the later stages would silently never run.
+    for (std::size_t i = 0; i + 1 < stages.size(); ++i)
+      if (stages[i].until_failure || stages[i].stop_settlement > 0)
+        throw Error(stages[i].where,
+                    "[[stages]] \"" + stages[i].name + "\" has " +
+                        (stages[i].until_failure ? "until_failure = true" : "stop_settlement") +
+                        ", which ends the run, but stage \"" + stages[i + 1].name +
+                        "\" follows it; only the last stage may load to failure or to a "
+                        "settlement limit");
     std::set<std::string> seen;
     for (const auto& st : stages)
       if (!seen.insert(st.name).second)
@@ -907,6 +937,13 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
       .defaults_to(stepping.error_tolerance);
   s.boolean("until_failure", "a step failing after its cut-backs ends the run normally (loading to failure)")
       .defaults_to(false);
+  s.real("collapse_stiffness", "-",
+         "with until_failure: the stop counts as a collapse when the current stiffness of the last "
+         "converged step (Bergan's parameter: dlambda / (F_ref . du) under load control) is below "
+         "this fraction of the stage's first step; otherwise it is a numerical failure (exit 4)")
+      .greater_than(0)
+      .at_most(1)
+      .defaults_to(0.1);
   s.real("stop_settlement", "m", "stop once the mean settlement of `monitor` exceeds this (0: never)")
       .at_least(0)
       .defaults_to(0.0);
@@ -935,6 +972,10 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
   st.max_cutbacks = static_cast<int>(p.integer("max_cutbacks"));
   st.error_tolerance = p.real("error_tolerance");
   st.until_failure = p.flag("until_failure");
+  st.collapse_stiffness = p.real("collapse_stiffness");
+  if (t.get("collapse_stiffness") && !st.until_failure)
+    throw Error(p.where("collapse_stiffness"),
+                ctx + " collapse_stiffness acts only in a stage with until_failure = true");
   st.stop_settlement = p.real("stop_settlement");
   st.monitor = p.text("monitor");
   if (!st.monitor.empty() && !model.mesh.node_sets.count(st.monitor))
@@ -1404,10 +1445,34 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     };
   int step = 0;
   bool written = false;
+  std::vector<StepRecord> live; // this stage's accepted steps, for the tables written during it
+  // The current stiffness of each accepted step against the stage's first (Bergan's current
+  // stiffness parameter): under load control dlambda / (F_ref . du), the load over the work-
+  // conjugate displacement of the load pattern; under displacement control (no load pattern on
+  // the free unknowns) du . df / dlambda^2 with df the change of the nodal forces (the reactions
+  // of the prescribed nodes). A stop counts as a collapse where it has fallen below
+  // collapse_stiffness (negative: the path has turned).
+  Eigen::VectorXd u_prev = m.u, f_prev = f0;
+  double lambda_prev = 0.0, stiffness_first = 0.0, stiffness_last = 0.0;
+  const bool load_controlled = m.load_ref.squaredNorm() > 0.0;
   cb.accepted = [&](const StepRecord& rec, const StepReport& rep, const Eigen::VectorXd& x) {
     m.lambda = rec.lambda;
     m.expand(x, m.lambda, m.u);
     m.reactions = problem.internal_force();
+    if (const double dl = m.lambda - lambda_prev; dl > 0.0) {
+      double kq;
+      if (load_controlled) {
+        const double fu = m.load_ref.dot(m.u - u_prev);
+        kq = fu > 0.0 ? dl / fu : -1.0;
+      } else {
+        kq = (m.u - u_prev).dot(m.reactions - f_prev) / (dl * dl);
+      }
+      if (stiffness_first == 0.0) stiffness_first = kq;
+      stiffness_last = kq;
+    }
+    lambda_prev = m.lambda;
+    u_prev = m.u;
+    f_prev = m.reactions;
     stepped = true;
     step = rec.step;
     ++summary.steps_done;
@@ -1417,6 +1482,10 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     written = writer && st.vtk && step % st.every == 0;
     if (written) timed(summary.times.output, [&] { write_step(*writer, time); });
     record();
+    live.push_back(rec);
+    live.back().stage = static_cast<int>(k) + 1;
+    if (options.write_output && seconds_since(last_tables) >= tables_every)
+      timed(summary.times.output, [&] { write_tables(summary, axial_rows, live); });
   };
   bool settled = false, interrupted = false;
   const bool watch = st.stop_settlement > 0 && monitor;
@@ -1438,7 +1507,9 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   if (!res.outcome.ok()) {
     std::string message = "stage \"" + st.name + "\": " + res.outcome.message;
     if (st.until_failure) {
-      summary.stop_reason = "failure";
+      summary.stiffness_ratio = stiffness_first > 0.0 ? stiffness_last / stiffness_first : 1.0;
+      const bool collapse = stiffness_first > 0.0 && summary.stiffness_ratio < st.collapse_stiffness;
+      summary.stop_reason = collapse ? "collapse" : "numerical";
       summary.stop_message = std::move(message);
     } else {
       summary.outcome = Outcome::failure(res.outcome.status, std::move(message));
@@ -1458,6 +1529,58 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     if (writer && st.vtk) write_step(*writer, time);
   }
   return true;
+}
+
+/// diagnostics.csv and the curves, each replaced atomically: at the end of every stage, every few
+/// seconds during a stage (so that a long run's tables grow while it runs and a kill loses at
+/// most the last seconds), and at the end. `live`: the accepted steps of the running stage (its
+/// failed attempts join at the stage's end).
+void Analysis::Impl::write_tables(const RunSummary& summary,
+                                  const std::vector<std::array<double, 3>>& axial_rows,
+                                  const std::vector<StepRecord>& live) {
+  Model& m = model;
+  if (options.write_output) {
+    if (live.empty()) {
+      write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
+    } else {
+      std::vector<StepRecord> all = summary.records;
+      all.insert(all.end(), live.begin(), live.end());
+      write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), all);
+    }
+  }
+  if (options.write_output && !summary.load_settlement.empty()) {
+    std::ostringstream ls, af;
+    ls << std::setprecision(10) << "load_kN,settlement_mm\n";
+    for (const auto& r : summary.load_settlement) ls << r[0] << ',' << r[1] << '\n';
+    write_text_atomically(fs::path(summary.out_dir) / "curves" / "load_settlement.csv", ls.str());
+    if (!axial_rows.empty()) {
+      af << std::setprecision(10) << "load_kN,depth_m,axial_force_kN\n";
+      double top = -std::numeric_limits<double>::infinity();
+      for (int c : m.mesh.cell_sets.at(pile_cells))
+        for (int n : m.mesh.cells[static_cast<std::size_t>(c)].nodes)
+          if (n >= 0) top = std::max(top, m.mesh.nodes[static_cast<std::size_t>(n)].y());
+      for (const auto& r : axial_rows) af << r[0] << ',' << top - r[1] << ',' << r[2] << '\n';
+      write_text_atomically(fs::path(summary.out_dir) / "curves" / "axial_force.csv", af.str());
+      if (!shaft_rows.empty()) {
+        std::ostringstream st;
+        st << std::setprecision(10)
+           << "load_kN,depth_m,shear_traction_kPa,normal_traction_kPa,slip_mm,status\n";
+        static const char* names[] = {"stick", "slip", "open"};
+        for (const auto& r : shaft_rows)
+          st << r[0] << ',' << top - r[1] << ',' << r[2] << ',' << r[3] << ',' << r[4] << ','
+             << names[static_cast<int>(r[5])] << '\n';
+        write_text_atomically(fs::path(summary.out_dir) / "curves" / "shaft_traction.csv", st.str());
+      }
+    }
+    if (!summary.settlement_components.empty()) {
+      std::ostringstream sc;
+      sc << std::setprecision(10) << PileComponents::header << '\n';
+      for (const auto& r : summary.settlement_components)
+        for (std::size_t i = 0; i < r.size(); ++i) sc << r[i] << (i + 1 < r.size() ? ',' : '\n');
+      write_text_atomically(fs::path(summary.out_dir) / "curves" / "settlement_components.csv", sc.str());
+    }
+  }
+  last_tables = std::chrono::steady_clock::now();
 }
 
 RunSummary Analysis::run() {
@@ -1512,6 +1635,8 @@ RunSummary Analysis::run() {
   for (std::size_t k = first; k < s.stages.size(); ++k) {
     const bool go_on = s.run_stage(k, summary, writer.get(), axial_rows);
     if (!summary.outcome.ok()) break;
+    if (go_on && k + 1 < s.stages.size())
+      timed(summary.times.output, [&] { s.write_tables(summary, axial_rows, {}); });
     summary.stages_done = static_cast<int>(k + 1);
     if (s.stages[k].checkpoint && s.options.write_output && go_on) {
       const auto t_ckpt = std::chrono::steady_clock::now();
@@ -1546,40 +1671,7 @@ RunSummary Analysis::run() {
   }
   if (writer) summary.pvd = writer->pvd_path();
   const auto t_out = std::chrono::steady_clock::now();
-  if (s.options.write_output)
-    write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
-  if (s.options.write_output && !summary.load_settlement.empty()) {
-    std::ostringstream ls, af;
-    ls << std::setprecision(10) << "load_kN,settlement_mm\n";
-    for (const auto& r : summary.load_settlement) ls << r[0] << ',' << r[1] << '\n';
-    write_text_atomically(fs::path(summary.out_dir) / "curves" / "load_settlement.csv", ls.str());
-    if (!axial_rows.empty()) {
-      af << std::setprecision(10) << "load_kN,depth_m,axial_force_kN\n";
-      double top = -std::numeric_limits<double>::infinity();
-      for (int c : m.mesh.cell_sets.at(s.pile_cells))
-        for (int n : m.mesh.cells[static_cast<std::size_t>(c)].nodes)
-          if (n >= 0) top = std::max(top, m.mesh.nodes[static_cast<std::size_t>(n)].y());
-      for (const auto& r : axial_rows) af << r[0] << ',' << top - r[1] << ',' << r[2] << '\n';
-      write_text_atomically(fs::path(summary.out_dir) / "curves" / "axial_force.csv", af.str());
-      if (!s.shaft_rows.empty()) {
-        std::ostringstream st;
-        st << std::setprecision(10)
-           << "load_kN,depth_m,shear_traction_kPa,normal_traction_kPa,slip_mm,status\n";
-        static const char* names[] = {"stick", "slip", "open"};
-        for (const auto& r : s.shaft_rows)
-          st << r[0] << ',' << top - r[1] << ',' << r[2] << ',' << r[3] << ',' << r[4] << ','
-             << names[static_cast<int>(r[5])] << '\n';
-        write_text_atomically(fs::path(summary.out_dir) / "curves" / "shaft_traction.csv", st.str());
-      }
-    }
-    if (!summary.settlement_components.empty()) {
-      std::ostringstream sc;
-      sc << std::setprecision(10) << PileComponents::header << '\n';
-      for (const auto& r : summary.settlement_components)
-        for (std::size_t i = 0; i < r.size(); ++i) sc << r[i] << (i + 1 < r.size() ? ',' : '\n');
-      write_text_atomically(fs::path(summary.out_dir) / "curves" / "settlement_components.csv", sc.str());
-    }
-  }
+  s.write_tables(summary, axial_rows, {});
   summary.times.output += seconds_since(t_out);
   summary.times.total = seconds_since(t_run);
   return summary;

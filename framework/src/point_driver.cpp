@@ -243,6 +243,17 @@ PointRun PointDriver::run() const {
         const Eigen::VectorXd d = lu.solve(r);
         for (std::size_t a = 0; a < S.size(); ++a) de[S[a]] -= d[static_cast<Eigen::Index>(a)];
       }
+      // A start without stiffness answers every strain with no stress: the run would write rows
+      // of the initial stress and exit 0 (found on 997ba04: a Duncan-Chang point from p = 0).
+      // Only while the stress has never moved: a perfectly plastic state reached on the way (the
+      // Drucker-Prager apex) legitimately has a zero tangent.
+      if (o.ok() && converged && de.cwiseAbs().maxCoeff() > 0.0 && s_new == stress &&
+          stress == impl_->initial && tangent.isZero(0.0))
+        o = Outcome::failure(
+            Status::singular,
+            "the material has no stiffness at its initial state: the strain increment changed "
+            "no stress component and its tangent is zero (e.g. Duncan-Chang at sigma_3 = 0, "
+            "where E_i = K p_a (sigma_3/p_a)^n vanishes: start from [initial] p > 0)");
       if (o.ok() && !converged)
         o = Outcome::failure(Status::not_converged,
                              "mixed control did not converge in 50 iterations (|r| = " + std::to_string(rn) +

@@ -73,8 +73,10 @@ struct Stage {
   int max_cutbacks = 4;
   double error_tolerance = 0.0; ///< error-controlled load steps (step_control.hpp); 0: off
   std::vector<Action> actions;
-  bool reset_after = false;     ///< zero the displacements at the end (geostatic stages)
-  bool until_failure = false;   ///< a step that fails after its cut-backs ends the run normally
+  bool reset_after = false;   ///< zero the displacements at the end (geostatic stages)
+  bool until_failure = false; ///< a step that fails after its cut-backs ends the run normally
+  double collapse_stiffness =
+      0.1;                      ///< until_failure: current-stiffness ratio below which a stop is a collapse
   double stop_settlement = 0.0; ///< > 0: stop once the monitored settlement exceeds it (m)
   std::string monitor;          ///< edge or node set whose mean vertical displacement is monitored
   bool vtk = true;

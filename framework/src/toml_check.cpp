@@ -163,6 +163,7 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
         xs.push_back(x);
       }
       p.set(s.name, std::move(xs), where);
+      p.mark_written_as_list(s.name);
       break;
     }
     }

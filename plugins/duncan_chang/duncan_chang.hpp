@@ -314,6 +314,9 @@ public:
     /// alpha of a split is still computed from the increment.
     bool forced = false;
     double error = 0.0; ///< explicit update: |Heun - Euler| / max(|stress|, p_a)
+    /// A replayed recovery found no stress (the perturbed strain left the recovery's domain, e.g.
+    /// below recovery_min_strain): the difference on that side must not be used.
+    bool replay_failed = false;
   };
 
   /// The explicit update's stiffness for a branch split alpha (the fraction on the E_ur branch):
@@ -539,8 +542,12 @@ public:
       }
     } else if (replay && rec.recovery) {
       Vec6 s;
-      if (!recover(in.strain_n + de + origin(in.history_n), s))
-        s = in.stress_n; // cannot happen near a valid base point
+      if (!recover(in.strain_n + de + origin(in.history_n), s)) {
+        // The perturbed strain is outside the recovery's domain (the base point lies within the
+        // difference step of its edge): say so; the caller differences on the other side.
+        rec.replay_failed = true;
+        return in.stress_n;
+      }
       const Point pe = point(s);
       h[0] = std::max(h[0], pe.S);
       h[1] = std::max(h[1], pe.q);
@@ -585,8 +592,11 @@ public:
       // step's start), so its tangent is that stiffness exactly: no differences needed. Where
       // the tension cut-off acted, the differences below include the cut-off's derivative.
       out.tangent = explicit_stiffness(point(in.stress_n), rec.alpha.front());
-    } else
-      difference_tangent(in, rec, out);
+    } else if (!difference_tangent(in, rec, out))
+      return Outcome::failure(Status::material_failure,
+                              "duncan_chang: the tangent's differences left the stress recovery's domain on "
+                              "both sides of the strain" +
+                                  where());
     if (c_.tangent_stabilization > 0.0) {
       // Only the iteration matrix changes (never the stress): keeps it regular where the soil has
       // failed or its tension is cut off.
@@ -606,7 +616,9 @@ public:
 
   /// The tangent of what the update did: central differences of the update with the branch
   /// decisions (recovery or incremental, substep count, E_t or E_ur per substep) frozen.
-  void difference_tangent(const MaterialInput& in, Record& rec, MaterialOutput& out) const {
+  /// Where a recovery replay fails on one side (the strain lies within the difference step of the
+  /// recovery's edge), that column is a one-sided difference from the other; false when both fail.
+  [[nodiscard]] bool difference_tangent(const MaterialInput& in, Record& rec, MaterialOutput& out) const {
     std::vector<double> hp(out.history.size());
     const double step = 1e-7;
     // A plane state (no out-of-plane shear in the stress, the strain or its increment) stays
@@ -623,15 +635,27 @@ public:
       Vec6 dp = in.dstrain, dm = in.dstrain;
       dp[j] += step;
       dm[j] -= step;
+      rec.replay_failed = false;
       const Vec6 sp = evaluate(in, dp, hp, rec, true);
+      const bool ok_p = !rec.replay_failed;
+      rec.replay_failed = false;
       const Vec6 sm = evaluate(in, dm, hp, rec, true);
-      out.tangent.col(j) = (sp - sm) / (2.0 * step);
+      const bool ok_m = !rec.replay_failed;
+      if (ok_p && ok_m)
+        out.tangent.col(j) = (sp - sm) / (2.0 * step);
+      else if (ok_p)
+        out.tangent.col(j) = (sp - out.stress) / step;
+      else if (ok_m)
+        out.tangent.col(j) = (out.stress - sm) / step;
+      else
+        return false;
     }
     if (plane_state) {
       out.tangent.leftCols<4>().bottomRows<2>().setZero();
       out.tangent.rightCols<2>().setZero();
       out.tangent(4, 4) = out.tangent(5, 5) = out.tangent(3, 3);
     }
+    return true;
   }
 
 private:

@@ -183,6 +183,14 @@ inline Constants read(const Params& p, Family fam) {
     for (const char* name : {"K_b", "m"})
       if (fam == Family::duncan_chang && !p.real_list(name).empty())
         fail(name, std::string(name) + " belongs to form = \"E_B\"; remove it or set form = \"E_B\"");
+  // A list of one value is a list (README: a number applies to every level, a list gives one
+  // value per level): K = [500.0] beside two levels is an error, not a broadcast.
+  if (N > 1)
+    for (const auto& name : needed)
+      if (p.written_as_list(name) && p.real_list(name).size() == 1)
+        fail(name, name + " is a list of 1 value but " + longest + " has " + std::to_string(N) +
+                       "; give one value per sigma3_levels entry, or write it as a plain number (no "
+                       "brackets) to use it for every level");
   if (N > 1 && c.levels.size() != N)
     fail(c.levels.empty() ? longest : "sigma3_levels",
          longest + " has " + std::to_string(N) + " values, so sigma3_levels must list " + std::to_string(N) +

@@ -174,8 +174,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> order;
   const auto t0 = std::chrono::steady_clock::now();
   int bugs = 0;
-  const st::Kind kinds[] = {st::Kind::converged, st::Kind::stopped, st::Kind::failed, st::Kind::crash,
-                            st::Kind::timeout,   st::Kind::nan_inf, st::Kind::silent, st::Kind::input_error};
+  const st::Kind kinds[] = {st::Kind::converged, st::Kind::stopped, st::Kind::numerical,
+                            st::Kind::failed,    st::Kind::crash,   st::Kind::timeout,
+                            st::Kind::nan_inf,   st::Kind::silent,  st::Kind::input_error};
   const auto render = [&](bool complete, double total) {
     std::ostringstream s;
     s << begin_marker << "\n## Numerical stability matrix (`bench_stability`)\n\n"
@@ -196,7 +197,10 @@ int main(int argc, char** argv) {
          "scene: tools/benchmarks/README.md (the default matrix; `--full` runs every combination). "
          "Outcomes: *converged* (exit 0, every stage at load factor 1, all outputs finite), *stopped* (exit "
          "0 "
-         "with the stop line of a stage loaded `until_failure`), *failed* (exit 2 with one message line: a "
+         "with the stop line of a stage loaded `until_failure`: a collapse, the current stiffness below "
+         "`collapse_stiffness` of the stage's first step), *numerical* (exit 4: such a stage stopped by a "
+         "step that did not converge while the structure was still stiff, a defect of the solver or its "
+         "settings), *failed* (exit 2 with one message line: a "
          "clean "
          "numerical failure), and the bugs *crash* (signal or exit status 3), *timeout*, *NaN/Inf* (in any "
          ".vtu/.vtp array, CSV file or the printed table), *silent* (exit 0 short of the target, or exit 2 "
@@ -205,9 +209,8 @@ int main(int argc, char** argv) {
           : full ? "**Full matrix (`--full`).** "
                  : "")
       << "\n\n"
-      << "| scene | runs | converged | stopped | failed | crash | timeout | NaN/Inf | silent | input error | "
-         "time "
-         "(s) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+      << "| scene | runs | converged | stopped (collapse) | numerical | failed | crash | timeout | NaN/Inf | "
+         "silent | input error | time (s) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     std::map<st::Kind, int> sum;
     int nruns = 0;
     for (const auto& name : order) {

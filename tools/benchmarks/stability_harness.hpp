@@ -6,10 +6,14 @@
 // Outcomes:
 //   converged     exit 0, every stage reached load factor 1, all outputs finite
 //   stopped       exit 0 with the "stopped:" line of a stage with until_failure or
-//                 stop_settlement (the documented end of loading to failure)
+//                 stop_settlement (the documented end of loading to failure: a collapse or
+//                 the settlement limit)
+//   numerical     exit 4 with the "stopped: numerical failure" line: an until_failure stage
+//                 whose step did not converge while the structure was still stiff (a defect
+//                 of the solver settings or the solver, counted as such; not a crash)
 //   failed        exit 2 with one "stratum: ..." line on stderr (a clean numerical failure)
 //   input_error   exit 1 (the variant is not a valid scene: a harness bug)
-//   crash         a signal, or an exit status other than 0, 1, 2 (e.g. 3, internal error)
+//   crash         a signal, or an exit status other than 0, 1, 2, 4 (e.g. 3, internal error)
 //   timeout       still running after the time limit (killed)
 //   nan_inf       some output (VTK arrays, CSV files, the printed table) holds NaN or Inf
 //   silent        exit 0 but not a converged end state (a stage short of load factor 1
@@ -295,7 +299,7 @@ inline std::string run_text(const Scene& s, const std::string& solver, const std
 
 // ---------------------------------------------------------------- running and classifying
 
-enum class Kind { converged, stopped, failed, input_error, crash, timeout, nan_inf, silent };
+enum class Kind { converged, stopped, numerical, failed, input_error, crash, timeout, nan_inf, silent };
 
 inline const char* to_string(Kind k) {
   switch (k) {
@@ -303,6 +307,8 @@ inline const char* to_string(Kind k) {
     return "converged";
   case Kind::stopped:
     return "stopped";
+  case Kind::numerical:
+    return "numerical";
   case Kind::failed:
     return "failed";
   case Kind::input_error:
@@ -319,8 +325,12 @@ inline const char* to_string(Kind k) {
   return "?";
 }
 
-/// A bug of the framework or the harness (everything but converged, stopped, failed).
-inline bool is_bug(Kind k) { return k != Kind::converged && k != Kind::stopped && k != Kind::failed; }
+/// A bug of the framework or the harness (everything but converged, stopped, numerical, failed).
+/// A numerical stop is a defect of the solver or its settings, counted apart (not a bug of the
+/// framework: the run said what happened and wrote what it had).
+inline bool is_bug(Kind k) {
+  return k != Kind::converged && k != Kind::stopped && k != Kind::numerical && k != Kind::failed;
+}
 
 struct Outcome {
   Kind kind = Kind::crash;
@@ -529,8 +539,15 @@ inline Outcome run_case(const fs::path& stratum_exe, const std::string& text, co
   }
   const bool one_line =
       !err_line.empty() && err_line.find('\n') == std::string::npos && err_line.rfind("stratum: ", 0) == 0;
-  if (o.exit_code == 0) {
+  if (o.exit_code == 0 || o.exit_code == 4) {
     const bool stopped = out_text.find("\nstopped: ") != std::string::npos;
+    const bool numerical = out_text.find("\nstopped: numerical failure") != std::string::npos;
+    if (numerical != (o.exit_code == 4)) {
+      o.kind = Kind::silent;
+      o.message = "exit " + std::to_string(o.exit_code) + (numerical ? " with" : " without") +
+                  " the 'stopped: numerical failure' line";
+      return o;
+    }
     if (!bad.empty()) {
       o.kind = Kind::nan_inf;
       o.message = bad;
@@ -546,7 +563,7 @@ inline Outcome run_case(const fs::path& stratum_exe, const std::string& text, co
       o.message = d;
       return o;
     }
-    o.kind = stopped ? Kind::stopped : Kind::converged;
+    o.kind = numerical ? Kind::numerical : stopped ? Kind::stopped : Kind::converged;
     if (stopped) {
       const auto at = out_text.find("\nstopped: ");
       o.message = out_text.substr(at + 1, out_text.find('\n', at + 1) - at - 1);

@@ -54,11 +54,14 @@ struct RunSummary {
   std::vector<StepRecord> records; ///< diagnostics of every attempt (also in <out_dir>/diagnostics.csv)
   std::string pvd;                 ///< the .pvd collection written ("" when no output)
   std::string out_dir;
-  int stages_done = 0; ///< stages completed (counting those before a restart)
-  std::string
-      stop_reason; ///< why a stage ended early: "failure" (until_failure), "settlement" or "interrupted"
-  std::string
-      stop_message; ///< for "failure": the failed step's message (stage, load factors, solver, cut-backs)
+  int stages_done = 0;     ///< stages completed (counting those before a restart)
+  std::string stop_reason; ///< why a stage ended early: "collapse" or "numerical" (a step of an until_failure
+                           ///< stage failed; see stiffness_ratio), "settlement" or "interrupted"
+  std::string stop_message; ///< for "collapse"/"numerical": the failed step's message (stage, load factors,
+                            ///< solver, cut-backs)
+  /// For "collapse"/"numerical": the current stiffness of the last converged step over that of the
+  /// stage's first (1 when there was none); below the stage's collapse_stiffness it is a collapse.
+  double stiffness_ratio = 1.0;
   std::vector<std::string> checkpoints; ///< written, in order
   /// Head load (kN) and settlement (mm) per converged level of the loaded stage(s) with a `load`
   /// action (starting at 0, 0), when [output] pile_head names the head edges.

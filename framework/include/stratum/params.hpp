@@ -10,6 +10,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <variant>
 #include <vector>
@@ -96,6 +97,10 @@ public:
   [[nodiscard]] const std::string& text(const std::string& name) const;
   [[nodiscard]] const std::vector<double>& real_list(const std::string& name) const;
   [[nodiscard]] bool has(const std::string& name) const { return values_.count(name) != 0; }
+  /// A real_list parameter written as a TOML array (`K = [500.0]`), not as one number (`K = 500.0`):
+  /// a plugin that broadcasts a number must not broadcast a list of one.
+  [[nodiscard]] bool written_as_list(const std::string& name) const { return lists_.count(name) != 0; }
+  void mark_written_as_list(const std::string& name) { lists_.insert(name); }
   /// Where the value was written (unknown for defaults); for error messages of plugins.
   [[nodiscard]] SourceLocation where(const std::string& name) const;
   /// The context of this block, e.g. "[materials.soil]", for messages.
@@ -104,6 +109,7 @@ public:
 private:
   const ParamValue& get(const std::string& name) const;
   std::map<std::string, std::pair<ParamValue, SourceLocation>> values_;
+  std::set<std::string> lists_;
 };
 
 } // namespace stratum
