@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include <numbers>
+#include <numeric>
 #include <unistd.h>
 
 using namespace stratum;
@@ -545,6 +546,42 @@ TEST_CASE("P4 strip footing: displacement control of a node set and the constant
   INFO("arc length with the constant-work switch: " << wk.outcome.message << ", q = " << q_wk);
   CHECK(wk.outcome.ok());
   CHECK(std::abs(q_wk - q_lim) / q_lim < 0.03);
+
+  // Which steps took the constant-work increment. The step controller asks for the last step's
+  // measured size times 1.5 after a fast step (automatic: at most 4 iterations, no cut-back) and
+  // times 1 otherwise; the cylindrical arc length returns exactly that size, a constant-work step
+  // a size of its own. A step after a cut-back is not classified.
+  auto modes = [](const RunSummary& s, std::vector<int>& arc, std::vector<int>& work) {
+    const StepRecord* prev = nullptr;
+    for (const auto& r : s.records) {
+      if (!r.accepted) continue;
+      if (prev && r.cutbacks == 0 && prev->cutbacks == 0) {
+        const double asked = prev->arc_length * (prev->iterations <= 4 ? 1.5 : 1.0);
+        (std::abs(r.arc_length - asked) < 1e-9 * asked ? arc : work).push_back(r.step);
+      }
+      prev = &r;
+    }
+  };
+  std::vector<int> arc, work;
+  modes(wk, arc, work);
+  CAPTURE(arc, work);
+  // README: the stiffness parameter of step 5 is 0.26 < 0.3, so from step 6 to the last (25th)
+  // every step is a constant-work step.
+  REQUIRE(wk.steps_done == 25);
+  CHECK(arc == std::vector<int>{2, 3, 4, 5});
+  std::vector<int> from6(20);
+  std::iota(from6.begin(), from6.end(), 6);
+  CHECK(work == from6);
+  // The same analysis without the switch keeps the arc length in every step.
+  RunSummary al;
+  (void)peak("solver = \"arc_length\"\nsteps = 12\nautomatic = true\nmax_steps = 25", "work_switch = 0.0",
+             al);
+  std::vector<int> arc0, work0;
+  modes(al, arc0, work0);
+  CAPTURE(arc0, work0);
+  CHECK(al.outcome.ok());
+  CHECK(work0.empty());
+  CHECK(arc0.size() == 24);
 }
 
 TEST_CASE("convergence tests: force, energy (4.21) and displacement, relative or absolute", "[solver]") {
