@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include <numbers>
+#include <numeric>
 #include <unistd.h>
 
 using namespace stratum;
@@ -102,6 +103,99 @@ TEST_CASE("S1 softening bar: arc length follows the snap-back branch", "[solver]
       CHECK(u_min_after_peak < 0.007); // far down the branch of decreasing u (u -> 0.006)
       CHECK(worst < 1e-6);
     }
+  }
+}
+
+// The constant-work switch of arc_length on a hardening bar (S1 with H = +2 kPa): elastic to
+// lambda = 1 (compliance C_e = L / E = 0.01 m), then linear hardening (C_p = (L - l_s) / E + l_s / H
+// = 0.059 m), so Bergan's stiffness parameter of a step is S = C_e / (F.du / dl): 1 while elastic,
+// C_e / C_p = 0.169 on the hardening branch. With a constant step size (automatic = false, so
+// beta = 1) the two modes leave different invariants between consecutive steps:
+//   arc length (4.15):    |du_k| = |du_(k-1)|  (cylindrical, psi = 0)
+//   constant work (4.17): W_k = W_(k-1), W_k = (lambda_(k-1) + dl_k / 2) F.du_k (exact on a linear
+//                         branch: the first iterate lies on the path)
+// and on a linear branch of rising load no step keeps both.
+TEST_CASE("S1 hardening bar: the constant-work switch engages after the first step with S < work_switch",
+          "[solver]") {
+  const double E = 100.0, H = 2.0, L = 1.0, ls = 0.1;
+  const double Ce = L / E, Cp = (L - ls) / E + ls / H;
+  struct Run {
+    std::vector<double> lambda, du_norm, work, S;
+    std::vector<int> work_steps, arc_steps; ///< accepted steps (1-based) classified by their invariant
+    double path_error = 0;
+    StageResult res;
+  };
+  auto run = [&](double work_switch) {
+    Run out;
+    auto s = load_solver("arc_length", "work_switch = " + std::to_string(work_switch));
+    SofteningBar b(10, L, E, 1.0, H);
+    StepSettings set;
+    set.lambda_end = 5.0; // never reached
+    set.steps = 20;       // first step: load increment 0.25 (elastic steps end on the yield point)
+    set.max_steps = 12;
+    set.convergence.force_rtol = 1e-12;
+    set.convergence.force_atol = 1e-14;
+    auto cb = bar_callbacks(b);
+    Eigen::VectorXd u_prev = Eigen::VectorXd::Zero(10);
+    double lambda_prev = 0;
+    cb.accepted = [&](const StepRecord& rec, const StepReport&, const Eigen::VectorXd& u) {
+      const Eigen::VectorXd du = u - u_prev;
+      const double dl = rec.lambda - lambda_prev;
+      out.lambda.push_back(rec.lambda);
+      out.du_norm.push_back(du.norm());
+      out.work.push_back((lambda_prev + 0.5 * dl) * du[9]); // F = unit force at the free end
+      out.S.push_back(Ce / (du[9] / dl));
+      const double exact = Ce * rec.lambda + (ls / H - ls / E) * std::max(0.0, rec.lambda - 1.0);
+      out.path_error = std::max(out.path_error, std::abs(u[9] - exact) / exact);
+      u_prev = u;
+      lambda_prev = rec.lambda;
+    };
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(10);
+    out.res = run_stage(b, *s->solver, set, cb, u);
+    for (std::size_t k = 1; k < out.lambda.size(); ++k) {
+      if (std::abs(out.work[k] - out.work[k - 1]) < 1e-9 * out.work[k - 1])
+        out.work_steps.push_back(static_cast<int>(k) + 1);
+      if (std::abs(out.du_norm[k] - out.du_norm[k - 1]) < 1e-9 * out.du_norm[k - 1])
+        out.arc_steps.push_back(static_cast<int>(k) + 1);
+    }
+    return out;
+  };
+  auto steps = [](const std::vector<int>& v) {
+    std::ostringstream o;
+    for (int k : v) o << ' ' << k;
+    return o.str();
+  };
+
+  const Run on = run(0.3);
+  INFO("work_switch = 0.3: " << on.res.outcome.message << "; work-mode steps:" << steps(on.work_steps)
+                             << "; arc-length steps:" << steps(on.arc_steps));
+  REQUIRE(on.res.outcome.ok());
+  REQUIRE(on.res.steps_done == 12);
+  CHECK(on.path_error < 1e-9); // every converged point on the bilinear load-displacement path
+  // Steps 1-4 elastic (S = 1) up to the yield point, step 5 the first on the hardening branch
+  // (S = C_e / C_p = 0.169 < 0.3): the switch engages from step 6 and holds to the last step.
+  CHECK(on.lambda[3] == Approx(1.0).epsilon(1e-9));
+  CHECK(on.S[3] == Approx(1.0).epsilon(1e-9));
+  CHECK(on.S[4] == Approx(Ce / Cp).epsilon(1e-9));
+  CHECK(on.arc_steps == std::vector<int>{2, 3, 4, 5});
+  CHECK(on.work_steps == std::vector<int>{6, 7, 8, 9, 10, 11, 12});
+  // Every work-mode step does the work of step 5, the last arc-length step, to round-off ...
+  for (int k = 6; k <= 12; ++k)
+    CHECK(on.work[static_cast<std::size_t>(k - 1)] == Approx(on.work[4]).epsilon(1e-9));
+  // ... and, as the load rises, takes ever smaller increments (the arc length would keep them).
+  CHECK(on.du_norm[11] < 0.95 * on.du_norm[5]);
+
+  // With the switch off (work_switch = 0) or below S on the hardening branch (0.15 < 0.169), every
+  // step keeps the arc length and the work per step grows: none is taken in work mode.
+  for (const double off : {0.0, 0.15}) {
+    const Run r = run(off);
+    INFO("work_switch = " << off << ": " << r.res.outcome.message << "; work-mode steps:"
+                          << steps(r.work_steps) << "; arc-length steps:" << steps(r.arc_steps));
+    REQUIRE(r.res.outcome.ok());
+    CHECK(r.path_error < 1e-9);
+    CHECK(r.work_steps.empty());
+    CHECK(r.arc_steps == std::vector<int>{2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12});
+    CHECK(r.work[11] > 1.1 * r.work[4]);
   }
 }
 
@@ -452,6 +546,42 @@ TEST_CASE("P4 strip footing: displacement control of a node set and the constant
   INFO("arc length with the constant-work switch: " << wk.outcome.message << ", q = " << q_wk);
   CHECK(wk.outcome.ok());
   CHECK(std::abs(q_wk - q_lim) / q_lim < 0.03);
+
+  // Which steps took the constant-work increment. The step controller asks for the last step's
+  // measured size times 1.5 after a fast step (automatic: at most 4 iterations, no cut-back) and
+  // times 1 otherwise; the cylindrical arc length returns exactly that size, a constant-work step
+  // a size of its own. A step after a cut-back is not classified.
+  auto modes = [](const RunSummary& s, std::vector<int>& arc, std::vector<int>& work) {
+    const StepRecord* prev = nullptr;
+    for (const auto& r : s.records) {
+      if (!r.accepted) continue;
+      if (prev && r.cutbacks == 0 && prev->cutbacks == 0) {
+        const double asked = prev->arc_length * (prev->iterations <= 4 ? 1.5 : 1.0);
+        (std::abs(r.arc_length - asked) < 1e-9 * asked ? arc : work).push_back(r.step);
+      }
+      prev = &r;
+    }
+  };
+  std::vector<int> arc, work;
+  modes(wk, arc, work);
+  CAPTURE(arc, work);
+  // README: the stiffness parameter of step 5 is 0.26 < 0.3, so from step 6 to the last (25th)
+  // every step is a constant-work step.
+  REQUIRE(wk.steps_done == 25);
+  CHECK(arc == std::vector<int>{2, 3, 4, 5});
+  std::vector<int> from6(20);
+  std::iota(from6.begin(), from6.end(), 6);
+  CHECK(work == from6);
+  // The same analysis without the switch keeps the arc length in every step.
+  RunSummary al;
+  (void)peak("solver = \"arc_length\"\nsteps = 12\nautomatic = true\nmax_steps = 25", "work_switch = 0.0",
+             al);
+  std::vector<int> arc0, work0;
+  modes(al, arc0, work0);
+  CAPTURE(arc0, work0);
+  CHECK(al.outcome.ok());
+  CHECK(work0.empty());
+  CHECK(arc0.size() == 24);
 }
 
 TEST_CASE("convergence tests: force, energy (4.21) and displacement, relative or absolute", "[solver]") {
