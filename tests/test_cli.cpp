@@ -300,3 +300,55 @@ TEST_CASE("an until_failure stage tells a collapse (exit 0) from a numerical sto
   // A numerical stop keeps what was computed: the diagnostics are written.
   CHECK(fs::exists(scratch() / "hill_numerical" / "diagnostics.csv"));
 }
+
+TEST_CASE("recorders write the quantities asked for, and a scene's [[checks]] decide the exit status",
+          "[cli][recorders]") {
+  // The Lamé scene records u_r at r = a and r = b and checks them against the closed form
+  // u(r) = (1 + nu) p a^2 / (E (b^2 - a^2)) [(1 - 2 nu) r + b^2 / r] (E1 of the catalogue).
+  std::string text;
+  {
+    std::ifstream in(fs::path(STRATUM_SOURCE_DIR) / "inputs" / "verification" / "lame_axisymmetric.toml");
+    std::stringstream s;
+    s << in.rdbuf();
+    text = s.str();
+  }
+  const auto u = [](double r) { return 1.3 * 1.0 / (1000.0 * 3.0) * (0.4 * r + 4.0 / r); };
+  const auto ok = stratum("run " + write_scene("lame_checks.toml", text) + " --out lame_checks");
+  INFO(ok.out << ok.err);
+  CHECK(ok.code == 0);
+  CHECK(ok.out.find("check inner.ux = ") != std::string::npos);
+  CHECK(ok.out.find(": pass\n") != std::string::npos);
+  // history/inner.csv: stage,step,lambda,ux; its last row against the closed form.
+  {
+    std::ifstream csv(scratch() / "lame_checks" / "history" / "inner.csv");
+    std::string line, last;
+    std::getline(csv, line);
+    CHECK(line == "stage,step,lambda,ux");
+    int rows = 0;
+    while (std::getline(csv, line)) last = line, ++rows;
+    CHECK(rows == 2); // the start (step 0) and the one load step
+    const double ux = std::stod(last.substr(last.rfind(',') + 1));
+    CHECK(std::abs(ux - u(1.0)) < 1e-3 * u(1.0));
+  }
+  // A wrong expected value fails its check: exit status 5, the FAIL line, one line on stderr.
+  std::string bad = text;
+  bad.replace(bad.find("expected = 1.2133333e-3"), 23, "expected = 1.3e-3");
+  const auto fail = stratum("run " + write_scene("lame_bad.toml", bad) + " --out lame_bad");
+  CHECK(fail.code == 5);
+  CHECK(fail.out.find("check outer.ux = ") != std::string::npos);
+  CHECK(fail.out.find(": FAIL\n") != std::string::npos);
+  CHECK(fail.err.find("a check failed") != std::string::npos);
+  // Located errors: a node recorder where no node is, a check of a quantity not recorded.
+  std::string nonode = text;
+  nonode.replace(nonode.find("at = [2.0, 0.0]"), 15, "at = [1.9, 0.1]");
+  const auto e1 = stratum("check " + write_scene("lame_nonode.toml", nonode));
+  CHECK(e1.code == 1);
+  CHECK(e1.err.find("lame_nonode.toml:") != std::string::npos);
+  CHECK(e1.err.find("[[output.history]] #2 no node at (1.9, 0.1); the nearest is node") != std::string::npos);
+  std::string noq = text;
+  noq.replace(noq.rfind("quantity = \"ux\""), 15, "quantity = \"uy\"");
+  const auto e2 = stratum("check " + write_scene("lame_noq.toml", noq));
+  CHECK(e2.code == 1);
+  CHECK(e2.err.find("[[checks]] #2 quantity = \"uy\" is not recorded by \"outer\"; it records: ux") !=
+        std::string::npos);
+}

@@ -55,7 +55,7 @@ constexpr const char* usage =
     "       stratum --version\n"
     "exit status: 0 done (a collapse or a settlement limit of the last stage included), 1 bad input,\n"
     "  2 a stage failed, 3 internal error, 4 an until_failure stage stopped by a numerical failure\n"
-    "  (not a collapse), 130/143 interrupted by SIGINT/SIGTERM\n";
+    "  (not a collapse), 5 a [[checks]] entry failed, 130/143 interrupted by SIGINT/SIGTERM\n";
 
 constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,
                                 PluginKind::solver};
@@ -260,7 +260,18 @@ int run(const std::vector<std::string>& args, bool check_only) {
   }
   // A numerical stop is not a result: its own exit status, so that scripts and studies can tell it
   // from a collapse (0) and from a failed stage (2).
-  return s.stop_reason == "numerical" ? 4 : 0;
+  if (s.stop_reason == "numerical") return 4;
+  // The scene's [[checks]]: one line each; a failed check is exit status 5.
+  bool checks_pass = true;
+  for (const auto& c : s.checks) {
+    std::cout << "check " << c.label << " = " << std::setprecision(10) << c.value << ", expected "
+              << c.expected << " +- " << std::setprecision(3) << c.tolerance << ": "
+              << (c.pass ? "pass" : "FAIL") << "\n"
+              << std::defaultfloat;
+    checks_pass = checks_pass && c.pass;
+  }
+  if (!checks_pass) std::cerr << "stratum: " << scene << ": a check failed (see the check lines above)\n";
+  return checks_pass ? 0 : 5;
 }
 
 } // namespace

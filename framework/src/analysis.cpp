@@ -3,6 +3,7 @@
 #include "checkpoint.hpp"
 #include "output_folder.hpp"
 #include "pile_components.hpp"
+#include "recorders.hpp"
 #include "scene_fingerprint.hpp"
 #include "scene_interfaces.hpp"
 #include "stage.hpp"
@@ -371,6 +372,8 @@ struct Analysis::Impl {
   bool run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
                  std::vector<std::array<double, 3>>& axial_rows);
   std::vector<std::array<double, 6>> shaft_rows; ///< load, y, shear, normal, slip (mm), status
+  std::vector<Recorder> recorders;               ///< [[output.history]]
+  std::vector<Check> checks;                     ///< [[checks]]
   void write_tables(const RunSummary& summary, const std::vector<std::array<double, 3>>& axial_rows,
                     const std::vector<StepRecord>& live);
   std::chrono::steady_clock::time_point last_tables = std::chrono::steady_clock::now();
@@ -381,8 +384,8 @@ struct Analysis::Impl {
 void Analysis::Impl::build(const toml::table& root) {
   // ---- top level
   static const std::vector<std::string_view> top_keys{
-      "title",       "analysis", "convergence", "solver", "mesh",    "materials",    "domains",
-      "constraints", "loads",    "stages",      "output", "plugins", "contact_laws", "interfaces"};
+      "title", "analysis", "convergence", "solver",  "mesh",         "materials",  "domains", "constraints",
+      "loads", "stages",   "output",      "plugins", "contact_laws", "interfaces", "checks"};
   for (auto&& [key, value] : root) {
     const std::string k(key.str());
     if (std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end()) {
@@ -449,7 +452,7 @@ void Analysis::Impl::build(const toml::table& root) {
   convergence.energy_atol = cp.real("energy_atol");
   convergence.displacement_test = cp.flag("displacement_test");
   convergence.max_iterations = static_cast<int>(cp.integer("max_iterations"));
-  const auto op = check_table(optional_table(root, "output"), output_schema(), "[output]");
+  const auto op = check_table(optional_table(root, "output"), output_schema(), "[output]", {"history"});
   vtk = op.flag("vtk");
   ip_output = op.flag("integration_points");
   every = static_cast<int>(op.integer("every"));
@@ -824,6 +827,22 @@ void Analysis::Impl::build(const toml::table& root) {
       if (!seen.insert(st.name).second)
         throw Error(st.where,
                     "[[stages]] name = \"" + st.name + "\" is used twice; stage names must be unique");
+  }
+
+  // Recorders and checks (recorders.hpp).
+  {
+    const auto list = table_list(optional_table(root, "output"), "history");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      recorders.emplace_back(*list[i], "[[output.history]] #" + std::to_string(i + 1), model);
+      for (std::size_t j = 0; j + 1 < recorders.size(); ++j)
+        if (recorders[j].name() == recorders.back().name())
+          throw Error(location(*list[i]), "[[output.history]] #" + std::to_string(i + 1) + " name = \"" +
+                                              recorders.back().name() +
+                                              "\" is used twice; names must be unique");
+    }
+    const auto cl = table_list(root, "checks");
+    for (std::size_t i = 0; i < cl.size(); ++i)
+      checks.push_back(parse_check(*cl[i], "[[checks]] #" + std::to_string(i + 1), recorders));
   }
 
   // What a checkpoint must match: mesh size, domain layout, stage names.
@@ -1482,6 +1501,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     written = writer && st.vtk && step % st.every == 0;
     if (written) timed(summary.times.output, [&] { write_step(*writer, time); });
     record();
+    for (auto& r : recorders) r.sample(m, static_cast<int>(k) + 1, step, m.lambda, rec.iterations);
     live.push_back(rec);
     live.back().stage = static_cast<int>(k) + 1;
     if (options.write_output && seconds_since(last_tables) >= tables_every)
@@ -1539,6 +1559,9 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
                                   const std::vector<std::array<double, 3>>& axial_rows,
                                   const std::vector<StepRecord>& live) {
   Model& m = model;
+  if (options.write_output)
+    for (const auto& r : recorders)
+      write_text_atomically(fs::path(summary.out_dir) / "history" / (r.name() + ".csv"), r.csv());
   if (options.write_output) {
     if (live.empty()) {
       write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
@@ -1632,6 +1655,8 @@ RunSummary Analysis::run() {
     timed(summary.times.output, [&] { s.write_step(*writer, s.time); });
   }
   std::vector<std::array<double, 3>> axial_rows;
+  // The recorders' first row: the state the run starts from (step 0 of its first stage).
+  for (auto& r : s.recorders) r.sample(m, static_cast<int>(first) + 1, 0, 0.0, 0);
   for (std::size_t k = first; k < s.stages.size(); ++k) {
     const bool go_on = s.run_stage(k, summary, writer.get(), axial_rows);
     if (!summary.outcome.ok()) break;
@@ -1672,6 +1697,7 @@ RunSummary Analysis::run() {
   if (writer) summary.pvd = writer->pvd_path();
   const auto t_out = std::chrono::steady_clock::now();
   s.write_tables(summary, axial_rows, {});
+  summary.checks = evaluate_checks(s.checks, s.recorders);
   summary.times.output += seconds_since(t_out);
   summary.times.total = seconds_since(t_run);
   return summary;

@@ -53,7 +53,8 @@ int OutputFolder::move_aside_previous(const std::string& stem, int keep_stages) 
     const bool ours = name == stem + ".pvd" || name == "diagnostics.csv" ||
                       (name.rfind(stem + "_", 0) == 0 &&
                        (ext == ".vtu" || ext == ".vtp" || ext == ".csv" || ext == ".pvd")) ||
-                      (e.is_directory() && (name == "curves" || (name == "checkpoints" && keep_stages == 0)));
+                      (e.is_directory() && (name == "curves" || name == "history" ||
+                                            (name == "checkpoints" && keep_stages == 0)));
     if (ours) old.push_back(e.path());
   }
   if (old.empty()) return 0;

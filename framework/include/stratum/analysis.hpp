@@ -45,6 +45,13 @@ struct RunTimes {
   long assemblies = 0, analyses = 0, factorizations = 0, solves = 0;
 };
 
+/// One [[checks]] entry after the run (framework/src/recorders.hpp).
+struct CheckResult {
+  std::string label; ///< recorder.quantity
+  double value = 0.0, expected = 0.0, tolerance = 0.0;
+  bool pass = false;
+};
+
 struct RunSummary {
   Outcome outcome;
   RunTimes times;
@@ -63,6 +70,7 @@ struct RunSummary {
   /// stage's first (1 when there was none); below the stage's collapse_stiffness it is a collapse.
   double stiffness_ratio = 1.0;
   std::vector<std::string> checkpoints; ///< written, in order
+  std::vector<CheckResult> checks;      ///< the scene's [[checks]] on the last recorded values
   /// Head load (kN) and settlement (mm) per converged level of the loaded stage(s) with a `load`
   /// action (starting at 0, 0), when [output] pile_head names the head edges.
   std::vector<std::array<double, 2>> load_settlement;

@@ -1,0 +1,231 @@
+#include "recorders.hpp"
+
+#include "toml_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace stratum {
+
+using io::location;
+
+namespace {
+
+const std::vector<std::string>& allowed(const std::string& kind) {
+  static const std::vector<std::string> node{"ux", "uy", "rx", "ry"};
+  static const std::vector<std::string> point{"x",   "y",   "sxx", "syy", "szz",   "sxy",
+                                              "exx", "eyy", "ezz", "gxy", "status"};
+  static const std::vector<std::string> global{"lambda", "iterations", "time"};
+  if (kind == "point") return point;
+  if (kind == "global") return global;
+  return node; // node, nodes
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+std::string known_sets(const std::map<std::string, std::vector<int>>& sets) {
+  std::string s;
+  for (const auto& [k, v] : sets) s += (s.empty() ? "" : ", ") + k;
+  return s;
+}
+
+} // namespace
+
+Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& model) {
+  Schema s;
+  s.text("name", {}, "recorder name: the file history/<name>.csv");
+  s.text("kind", {"node", "nodes", "point", "global"},
+         "one node at `at`, a node or edge `set` (mean displacement, summed reaction), the "
+         "integration point nearest to `at`, or global quantities");
+  s.text("set", {}, "nodes: the node or edge set").defaults_to(std::string());
+  s.real_list("at", "m", "node, point: the location [x, y]").defaults_to(std::vector<double>{});
+  const Params p = io::check_table(t, s, ctx, {"quantities"});
+  name_ = p.text("name");
+  kind_ = p.text("kind");
+  set_ = p.text("set");
+  if (name_.empty() || name_.find_first_of("/\\ ") != std::string::npos || name_[0] == '.')
+    throw Error(p.where("name"), ctx + " name = \"" + name_ +
+                                     "\" must be a plain file name (no '/', '\\', spaces or leading '.')");
+  const auto& at = p.real_list("at");
+  const bool needs_at = kind_ == "node" || kind_ == "point";
+  if (needs_at && at.size() != 2)
+    throw Error(at.empty() ? location(t) : p.where("at"),
+                ctx + " kind = \"" + kind_ + "\" needs at = [x, y] (m)");
+  if (!needs_at && !at.empty())
+    throw Error(p.where("at"), ctx + " at acts only for kind = \"node\" or \"point\"");
+  if (kind_ == "nodes") {
+    if (set_.empty()) throw Error(location(t), ctx + " kind = \"nodes\" needs set = \"<node or edge set>\"");
+    const auto it = model.mesh.node_sets.find(set_);
+    if (it == model.mesh.node_sets.end())
+      throw Error(p.where("set"),
+                  ctx + " set = \"" + set_ +
+                      "\" is not a node or edge set of the mesh; known: " + known_sets(model.mesh.node_sets));
+    nodes_ = it->second;
+  } else if (!set_.empty()) {
+    throw Error(p.where("set"), ctx + " set acts only for kind = \"nodes\"");
+  }
+  if (needs_at) at_[0] = at[0], at_[1] = at[1];
+  if (kind_ == "node") {
+    // The node must be at `at`: a recorder that silently moved to another node would record
+    // another quantity than the one asked for.
+    double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    double hi[2] = {-lo[0], -lo[1]};
+    int best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t n = 0; n < model.mesh.nodes.size(); ++n) {
+      const auto& x = model.mesh.nodes[n];
+      for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], x[k]), hi[k] = std::max(hi[k], x[k]);
+      const double d = std::hypot(x[0] - at_[0], x[1] - at_[1]);
+      if (d < best_d) best_d = d, best = static_cast<int>(n);
+    }
+    const double size = std::max(hi[0] - lo[0], hi[1] - lo[1]);
+    if (best < 0 || best_d > 1e-6 * size) {
+      std::ostringstream m;
+      m << ctx << " no node at (" << at_[0] << ", " << at_[1] << ")";
+      if (best >= 0)
+        m << "; the nearest is node " << best << " at ("
+          << model.mesh.nodes[static_cast<std::size_t>(best)][0] << ", "
+          << model.mesh.nodes[static_cast<std::size_t>(best)][1] << ")";
+      throw Error(p.where("at"), m.str());
+    }
+    nodes_ = {best};
+  }
+  // quantities: a list of names; by default all of the kind's.
+  const auto& names = allowed(kind_);
+  if (const toml::node* q = t.get("quantities")) {
+    const auto* arr = q->as_array();
+    if (!arr || arr->empty())
+      throw Error(location(*q), ctx + " quantities must be a non-empty list of names, e.g. [\"" + names[0] +
+                                    "\"]; allowed: " + joined(names));
+    for (const auto& e : *arr) {
+      const auto v = e.value<std::string>();
+      if (!v || std::find(names.begin(), names.end(), *v) == names.end())
+        throw Error(location(e), ctx + " quantities contains " + io::show(e) + ", which kind = \"" + kind_ +
+                                     "\" does not record; allowed: " + joined(names));
+      quantities_.push_back(*v);
+    }
+  } else {
+    quantities_ = names;
+  }
+}
+
+int Recorder::column(const std::string& quantity) const {
+  const auto it = std::find(quantities_.begin(), quantities_.end(), quantity);
+  return it == quantities_.end() ? -1 : static_cast<int>(it - quantities_.begin());
+}
+
+void Recorder::sample(const Model& m, int stage, int step, double lambda, int iterations) {
+  RecorderRow r{stage, step, lambda, {}};
+  const auto reaction = [&](int d) {
+    if (m.dofs.eq[static_cast<std::size_t>(d)] >= 0) return 0.0; // a free DOF carries no reaction
+    return m.reactions[d] - m.load_base[d] - m.lambda * m.load_ref[d];
+  };
+  std::vector<double> v; // in the order of allowed(kind_)
+  if (kind_ == "node" || kind_ == "nodes") {
+    double u[2] = {0, 0}, f[2] = {0, 0};
+    for (int n : nodes_)
+      for (int k = 0; k < 2; ++k) {
+        u[k] += m.u[2 * n + k];
+        f[k] += reaction(2 * n + k);
+      }
+    const double count = static_cast<double>(std::max<std::size_t>(nodes_.size(), 1));
+    v = {u[0] / count, u[1] / count, f[0], f[1]};
+  } else if (kind_ == "point") {
+    double best = std::numeric_limits<double>::infinity();
+    v.assign(11, std::numeric_limits<double>::quiet_NaN());
+    std::vector<int> nodes;
+    Eigen::MatrixX2d x, xp;
+    for (const auto& dm : m.domains)
+      for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
+        const int c = dm.cells[ci];
+        if (!m.is_active(c) || !dm.element) continue;
+        m.cell_nodes(c, nodes, x);
+        dm.element->point_coordinates(ElementData{c, m.mesh.cells[static_cast<std::size_t>(c)].shape(), &x},
+                                      xp);
+        for (Eigen::Index q = 0; q < xp.rows(); ++q) {
+          const double d = std::hypot(xp(q, 0) - at_[0], xp(q, 1) - at_[1]);
+          if (!(d < best)) continue;
+          best = d;
+          const auto slot = dm.states.committed(dm.first_point[ci] + static_cast<std::size_t>(q));
+          const Vec6 s = slot.stress(), e = slot.strain();
+          const double status =
+              dm.law.material ? static_cast<double>(dm.law.material->point_status(s, slot.history())) : -1.0;
+          v = {xp(q, 0), xp(q, 1), s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], status};
+        }
+      }
+  } else {
+    v = {lambda, static_cast<double>(iterations), static_cast<double>(stage - 1) + lambda};
+  }
+  const auto& names = allowed(kind_);
+  for (const auto& q : quantities_)
+    r.values.push_back(v[static_cast<std::size_t>(std::find(names.begin(), names.end(), q) - names.begin())]);
+  rows_.push_back(std::move(r));
+}
+
+std::string Recorder::csv() const {
+  std::ostringstream o;
+  o << std::setprecision(12) << "stage,step,lambda";
+  for (const auto& q : quantities_) o << ',' << q;
+  o << '\n';
+  for (const auto& r : rows_) {
+    o << r.stage << ',' << r.step << ',' << r.lambda;
+    for (double x : r.values) o << ',' << x;
+    o << '\n';
+  }
+  return o.str();
+}
+
+Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<Recorder>& recorders) {
+  Schema s;
+  s.text("recorder", {}, "name of an [[output.history]] recorder");
+  s.text("quantity", {}, "one of the recorder's quantities; its value at the last recorded step is checked");
+  s.real("expected", "-", "the expected value (in the quantity's unit), e.g. from a closed form");
+  s.real("rtol", "-", "relative tolerance").at_least(0).defaults_to(0.0);
+  s.real("atol", "-", "absolute tolerance (the quantity's unit)").at_least(0).defaults_to(0.0);
+  const Params p = io::check_table(t, s, ctx);
+  Check c{p.text("recorder"), p.text("quantity"), p.real("expected"),
+          p.real("rtol"),     p.real("atol"),     location(t)};
+  if (c.rtol == 0.0 && c.atol == 0.0)
+    throw Error(location(t), ctx + " give rtol or atol (or both): a check of floating-point results needs a "
+                                   "tolerance");
+  const auto it = std::find_if(recorders.begin(), recorders.end(),
+                               [&](const Recorder& r) { return r.name() == c.recorder; });
+  if (it == recorders.end()) {
+    std::string known;
+    for (const auto& r : recorders) known += (known.empty() ? "" : ", ") + r.name();
+    throw Error(p.where("recorder"), ctx + " recorder = \"" + c.recorder +
+                                         "\" is not an [[output.history]] name" +
+                                         (known.empty() ? "; the scene has none" : "; known: " + known));
+  }
+  if (it->column(c.quantity) < 0)
+    throw Error(p.where("quantity"), ctx + " quantity = \"" + c.quantity + "\" is not recorded by \"" +
+                                         c.recorder + "\"; it records: " + joined(it->quantities()));
+  return c;
+}
+
+std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,
+                                         const std::vector<Recorder>& recorders) {
+  std::vector<CheckResult> out;
+  for (const auto& c : checks) {
+    const auto& r = *std::find_if(recorders.begin(), recorders.end(),
+                                  [&](const Recorder& x) { return x.name() == c.recorder; });
+    CheckResult res;
+    res.label = c.recorder + "." + c.quantity;
+    res.expected = c.expected;
+    res.tolerance = c.atol + c.rtol * std::abs(c.expected);
+    res.value = r.rows().empty() ? std::numeric_limits<double>::quiet_NaN()
+                                 : r.rows().back().values[static_cast<std::size_t>(r.column(c.quantity))];
+    res.pass = std::abs(res.value - res.expected) <= res.tolerance; // NaN fails
+    out.push_back(res);
+  }
+  return out;
+}
+
+} // namespace stratum

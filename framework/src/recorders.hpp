@@ -1,0 +1,75 @@
+// Recorders ([[output.history]]) and checks ([[checks]]) of a scene. Internal to the framework.
+//
+// A recorder samples named quantities after every converged step into one CSV per run,
+// <out>/history/<name>.csv, with the columns stage, step, lambda and its quantities:
+//
+//   kind = "node"    at = [x, y]  one node (within 1e-6 of the mesh's size of `at`):
+//                                 ux, uy (m), rx, ry (kN: the reaction, on constrained DOFs)
+//   kind = "nodes"   set = "..."  a node or edge set: ux, uy (mean, m), rx, ry (sum of reactions, kN)
+//   kind = "point"   at = [x, y]  the integration point of an active cell nearest to `at`
+//                                 (chosen anew at each step: cells may be placed or removed):
+//                                 x, y (m, where it is), sxx, syy, szz, sxy (kPa, tension positive),
+//                                 exx, eyy, ezz, gxy (engineering shear), status (the model's
+//                                 point_status: its own regime number, -1 where it has none)
+//   kind = "global"               lambda, iterations (of the step), time (stage - 1 + lambda)
+//
+// A check compares the last recorded value of one recorder quantity with an expected value:
+// it passes when |value - expected| <= atol + rtol |expected|. The run prints each check and
+// ends with exit status 5 when one fails (framework/cli/main.cpp).
+#pragma once
+
+#include "stratum/analysis.hpp"
+#include "stratum/error.hpp"
+#include "stratum/model.hpp"
+
+#include <toml++/toml.h>
+
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+struct RecorderRow {
+  int stage = 0, step = 0;
+  double lambda = 0.0;
+  std::vector<double> values;
+};
+
+class Recorder {
+public:
+  /// Reads and checks one [[output.history]] table against the mesh.
+  Recorder(const toml::table& t, const std::string& ctx, const Model& model);
+
+  [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] const std::vector<std::string>& quantities() const { return quantities_; }
+  [[nodiscard]] const std::vector<RecorderRow>& rows() const { return rows_; }
+  /// Index of a quantity, or -1.
+  [[nodiscard]] int column(const std::string& quantity) const;
+
+  /// Samples the model's converged state (reactions already updated).
+  void sample(const Model& model, int stage, int step, double lambda, int iterations);
+  /// The CSV text: stage,step,lambda,<quantities>.
+  [[nodiscard]] std::string csv() const;
+
+private:
+  std::string name_, kind_, set_;
+  std::vector<std::string> quantities_;
+  std::vector<int> nodes_; ///< node: the one node; nodes: the set
+  double at_[2] = {0.0, 0.0};
+  std::vector<RecorderRow> rows_;
+};
+
+struct Check {
+  std::string recorder, quantity;
+  double expected = 0.0, rtol = 0.0, atol = 0.0;
+  SourceLocation where;
+};
+
+/// Reads one [[checks]] table; the recorder and quantity must exist.
+Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<Recorder>& recorders);
+
+/// Evaluates the checks on the recorders' last rows (a recorder without rows fails its checks).
+std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,
+                                         const std::vector<Recorder>& recorders);
+
+} // namespace stratum
