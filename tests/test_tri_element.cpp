@@ -12,9 +12,17 @@
 
 #include <Eigen/Dense>
 
+#include <vtkCellType.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 using namespace stratum;
@@ -440,4 +448,36 @@ TEST_CASE("tri: Lamé cylinder, plane strain quarter ring with curved 6-node tri
   // is O(h^3) as well; 1e-3 of u(a) leaves room for it.
   CHECK(worst < 1e-3);
   CHECK(rel(m.u[2 * node_at(m, 1.0, 0.0)], ex.u(1.0)) < 1e-3);
+}
+
+TEST_CASE("tri: 6-node triangles are written as VTK quadratic triangles and read back", "[tri][output]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("stratum_tri_vtk_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  RunOptions o;
+  o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+  o.out_dir = dir.string();
+  auto an = Analysis::from_file(std::string(STRATUM_SOURCE_DIR) + "/inputs/verification/lame_tri6.toml", o);
+  REQUIRE(an->run().outcome.ok());
+  const Model& m = an->model();
+  vtkNew<vtkXMLUnstructuredGridReader> r;
+  r->SetFileName((dir / "lame_tri6_1.vtu").string().c_str());
+  r->Update();
+  vtkUnstructuredGrid* g = r->GetOutput();
+  REQUIRE(g != nullptr);
+  REQUIRE(g->GetNumberOfCells() == static_cast<vtkIdType>(m.mesh.cells.size()));
+  REQUIRE(g->GetNumberOfPoints() == static_cast<vtkIdType>(m.mesh.nodes.size()));
+  for (vtkIdType c = 0; c < g->GetNumberOfCells(); ++c) {
+    CHECK(g->GetCellType(c) == VTK_QUADRATIC_TRIANGLE);
+    // VTK's order is the cell's: corners 0 1 2, then the midside nodes of 0-1, 1-2, 2-0.
+    const auto& n = m.mesh.cells[static_cast<std::size_t>(c)].nodes;
+    vtkIdType count = 0;
+    const vtkIdType* ids = nullptr;
+    g->GetCellPoints(c, count, ids);
+    REQUIRE(count == 6);
+    const std::array<int, 6> slots{0, 1, 2, 4, 5, 6};
+    for (int k = 0; k < 6; ++k)
+      CHECK(ids[k] == n[static_cast<std::size_t>(slots[static_cast<std::size_t>(k)])]);
+  }
+  fs::remove_all(dir);
 }
