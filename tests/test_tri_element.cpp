@@ -481,3 +481,36 @@ TEST_CASE("tri: 6-node triangles are written as VTK quadratic triangles and read
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("tri: a stage load on the top of triangle cells is the uniform patch state", "[tri][patch]") {
+  // A stage action type = "load" with cells = "patch" (as on a pile head) finds the top edges of
+  // the cells themselves (stage::load_edges): for triangles any edge on the top. Plane strain,
+  // a force of 10 kN on the unit-wide top, i.e. p = 10 kPa on y = 1:
+  // sigma_yy = -p, sigma_zz = -nu p, u_y = -p (1 - nu^2) / E y, u_x = nu (1 + nu) p / E x.
+  const double E = 200, nu = 0.3, p = 10;
+  std::string toml = patch_scene("patch_tri6.msh", "plane_strain", domain("patch", "tri6"));
+  const std::string edge_load = "[[loads]]\ntype = \"pressure\"\nedges = \"right\"\np = 10.0\n";
+  REQUIRE(toml.find(edge_load) != std::string::npos);
+  toml.replace(toml.find(edge_load), edge_load.size(),
+               "[[stages]]\nname = \"top\"\nsteps = 1\n[[stages.actions]]\ntype = \"load\"\ncells = "
+               "\"patch\"\nforce = 10.0\n");
+  auto an = scene(toml);
+  REQUIRE(an->run().outcome.ok());
+  const Model& m = an->model();
+  double u_err = 0;
+  for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n) {
+    u_err = std::max(
+        u_err, std::abs(m.u[2 * static_cast<Eigen::Index>(n)] - nu * (1 + nu) * p / E * m.mesh.nodes[n].x()));
+    u_err = std::max(u_err, std::abs(m.u[2 * static_cast<Eigen::Index>(n) + 1] +
+                                     p * (1 - nu * nu) / E * m.mesh.nodes[n].y()));
+  }
+  Vec6 s_exact = Vec6::Zero();
+  s_exact[1] = -p, s_exact[2] = -nu * p;
+  double s_err = 0;
+  const auto& st = m.domains.at(0).states;
+  for (std::size_t q = 0; q < st.points(); ++q)
+    s_err = std::max(s_err, (st.committed(q).stress() - s_exact).norm());
+  INFO("max |u - u_exact| = " << u_err << ", max |s - s_exact| = " << s_err);
+  CHECK(u_err <= 1e-10 * p / E);
+  CHECK(s_err <= 1e-10 * p);
+}

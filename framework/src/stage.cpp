@@ -57,8 +57,13 @@ std::vector<Edge> load_edges(const Model& model, const LoadSpec& spec) {
   if (!spec.top_of_cells) return model.mesh.edge_sets.at(spec.set);
   double top = -std::numeric_limits<double>::infinity();
   const auto& cells = model.mesh.cell_sets.at(spec.set);
-  for (int c : cells)
-    if (model.is_active(c)) top = std::max(top, model.mesh.nodes[model.mesh.cells[c].nodes[2]].y());
+  for (int c : cells) {
+    if (!model.is_active(c)) continue;
+    const auto& n = model.mesh.cells[c].nodes;
+    top = std::max(top, model.mesh.nodes[n[2]].y());
+    if (n[3] < 0) // a triangle's top may be any of its corners
+      top = std::max({top, model.mesh.nodes[n[0]].y(), model.mesh.nodes[n[1]].y()});
+  }
   std::vector<Edge> edges;
   for (int c : cells) {
     if (!model.is_active(c)) continue;
