@@ -20,6 +20,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <unistd.h>
@@ -513,4 +514,30 @@ TEST_CASE("tri: a stage load on the top of triangle cells is the uniform patch s
   INFO("max |u - u_exact| = " << u_err << ", max |s - s_exact| = " << s_err);
   CHECK(u_err <= 1e-10 * p / E);
   CHECK(s_err <= 1e-10 * p);
+}
+
+TEST_CASE("tri: the Gmsh reader turns a clockwise 6-node triangle around, midside nodes with their edges",
+          "[tri][mesh]") {
+  namespace fs = std::filesystem;
+  const fs::path path = fs::temp_directory_path() / ("stratum_tri_cw_" + std::to_string(::getpid()) + ".msh");
+  {
+    // Corners (0,0) (0,1) (1,0): clockwise. Midside tags 4 (edge 1-2), 5 (2-3), 6 (3-1) in Gmsh order.
+    std::ofstream out(path);
+    out << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 6 1 6\n2 1 0 6\n1\n2\n3\n4\n5\n6\n"
+           "0 0 0\n0 1 0\n1 0 0\n0 0.5 0\n0.5 0.5 0\n0.5 0 0\n$EndNodes\n"
+           "$Elements\n1 1 1 1\n2 1 9 1\n1 1 2 3 4 5 6\n$EndElements\n";
+  }
+  const Mesh m = read_gmsh(path.string());
+  fs::remove(path);
+  REQUIRE(m.cells.size() == 1u);
+  const auto& n = m.cells[0].nodes;
+  // Corners 0 2 1 (counter-clockwise); edge 0-2 carries (0.5, 0), 2-1 carries (0.5, 0.5), 1-0 (0, 0.5).
+  CHECK(n == std::array<int, 8>{0, 2, 1, -1, 5, 4, 3, -1});
+  REQUIRE_NOTHROW(m.check());
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector2d mid =
+        0.5 * (m.nodes[static_cast<std::size_t>(n[static_cast<std::size_t>(k)])] +
+               m.nodes[static_cast<std::size_t>(n[static_cast<std::size_t>((k + 1) % 3)])]);
+    CHECK((m.nodes[static_cast<std::size_t>(n[static_cast<std::size_t>(4 + k)])] - mid).norm() == 0.0);
+  }
 }
