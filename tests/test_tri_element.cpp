@@ -541,3 +541,49 @@ TEST_CASE("tri: the Gmsh reader turns a clockwise 6-node triangle around, midsid
     CHECK((m.nodes[static_cast<std::size_t>(n[static_cast<std::size_t>(4 + k)])] - mid).norm() == 0.0);
   }
 }
+
+TEST_CASE("tri: Hill thick cylinder with Tresca (phi = 0) on curved 6-node triangles",
+          "[tri][verification][tresca]") {
+  // Catalogue P1 on the Gmsh quarter ring a = 1, b = 2 m (lame_ring_plane_strain.msh, h = 0.15 m),
+  // Tresca with c = 100 kPa (Y = 2c), E = 1e5 kPa, nu = 0.3, plane strain. The closed form (exact
+  // for Tresca while sigma_z stays the intermediate stress): elastic up to p0 = (Y/2)(1 - a^2/b^2),
+  // then the plastic radius r_c from p = Y (ln(r_c/a) + (1 - r_c^2/b^2)/2) and
+  // u_b = Y r_c^2 (1 - nu^2) / (E b). The 6-node triangles have no volumetric treatment, and the
+  // isochoric plastic flow stiffens them as the limit nears; 2e-3 up to 0.9 P_lim allows for that
+  // on this mesh (the quad8 scene with selective integration is checked to 1e-3).
+  const double a = 1, b = 2, c = 100, E = 1e5, nu = 0.3, Y = 2 * c, p_lim = Y * std::log(b / a);
+  auto u_b = [&](double P) {
+    if (P <= 0.5 * Y * (1 - a * a / (b * b))) return 2 * P * b * (1 - nu * nu) / (E * (b * b / (a * a) - 1));
+    double lo = a, hi = b;
+    for (int i = 0; i < 200; ++i) {
+      const double rc = 0.5 * (lo + hi);
+      (Y * (std::log(rc / a) + 0.5 * (1 - rc * rc / (b * b))) < P ? lo : hi) = rc;
+    }
+    const double rc = 0.5 * (lo + hi);
+    return Y * rc * rc * (1 - nu * nu) / (E * b);
+  };
+  for (double frac : {0.5, 0.75, 0.9}) {
+    const double P = frac * p_lim;
+    const std::string toml = "[analysis]\nformulation = \"plane_strain\"\nsteps = "
+                             "10\n[convergence]\nforce_rtol = 1e-9\n[mesh]\ngenerator = "
+                             "\"gmsh\"\nfile = \"" +
+                             std::string(STRATUM_SOURCE_DIR) +
+                             "/inputs/verification/gmsh/lame_ring_plane_strain.msh\"\n[materials.m]\nmodel = "
+                             "\"mohr_coulomb\"\nE = " +
+                             std::to_string(E) + "\nnu = 0.3\nc = " + std::to_string(c) +
+                             "\nphi = 0.0\n[[domains]]\ncells = \"ring\"\nelement = \"tri6\"\nmaterial = "
+                             "\"m\"\n[[constraints]]\nnodes = "
+                             "\"x_axis\"\nuy = 0.0\n[[constraints]]\nnodes = \"y_axis\"\nux = "
+                             "0.0\n[[loads]]\ntype = \"pressure\"\nedges "
+                             "= \"inner\"\np = " +
+                             std::to_string(P) + "\n";
+    auto an = scene(toml);
+    const auto s = an->run();
+    INFO(s.outcome.message);
+    REQUIRE(s.outcome.ok());
+    const double ub = an->model().u[2 * node_at(an->model(), b, 0.0)];
+    INFO(frac << " P_lim: u_b = " << ub << ", closed form " << u_b(P) << ", relative error "
+              << std::abs(ub - u_b(P)) / u_b(P));
+    CHECK(std::abs(ub - u_b(P)) / u_b(P) < 2e-3);
+  }
+}
