@@ -330,11 +330,21 @@ TEST_CASE("read_gmsh: two 8-node quadrangles with physical groups", "[mesh]") {
   CHECK(m.node_sets.at("anchor") == std::vector<int>{0});
 }
 
+TEST_CASE("read_gmsh: a 3-node triangle is a cell with slots 0-2", "[mesh]") {
+  const Mesh m = read_gmsh(data("triangle.msh"));
+  REQUIRE(m.cells.size() == 1u);
+  CHECK(m.cells[0].nodes == std::array<int, 8>{0, 1, 2, -1, -1, -1, -1, -1});
+  CHECK(m.cells[0].shape() == 0x07u);
+  REQUIRE_NOTHROW(m.check());
+}
+
 TEST_CASE("read_gmsh: errors name the file and line", "[mesh]") {
-  SECTION("triangle") {
-    const std::string path = data("triangle.msh");
+  SECTION("10-node triangle") {
+    const std::string path = data("triangle10.msh");
     CHECK(error_of([&] { (void)read_gmsh(path); }) ==
-          path + ":16:5 element type 2 (triangle) is not supported; allowed: 4-, 8- and 9-node quadrangles");
+          path +
+              ":16:5 element type 21 (10-node triangle) is not supported; allowed: 3- and 6-node triangles "
+              "(gmsh -order 1 or 2), 4-, 8- and 9-node quadrangles");
   }
   SECTION("binary") {
     const std::string path = data("binary.msh");

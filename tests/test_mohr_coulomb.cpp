@@ -536,3 +536,122 @@ TEST_CASE("mohr_coulomb: exact form, no stiffness for the modes that split an ed
     CHECK((fd - r.tangent).norm() < 1e-5 * r.tangent.norm());
   }
 }
+
+// ------------------------------------------------------------------------------------------
+// Tresca: phi = 0 (then psi = 0). The exact form is the hexagonal prism (sigma_1 - sigma_3) = 2c
+// with no apex; the rounded form is the von Mises cylinder through its corners,
+// (sqrt 3 / 2) sqrt(J2) = c.
+
+TEST_CASE("mohr_coulomb: Tresca (phi = 0) against closed forms", "[point][tresca]") {
+  const double c = 10.0;
+  for (mc::Form form : {mc::Form::exact, mc::Form::rounded}) {
+    mc::Parameters p = base_parameters(form, 0.0);
+    p.phi = 0.0;
+    p.c = c;
+    const mc::MohrCoulomb m(p, settings());
+    const double G = p.E / (2 * (1 + p.nu)), K = p.E / (3 * (1 - 2 * p.nu));
+    INFO((form == mc::Form::exact ? "exact" : "rounded"));
+    CHECK(std::isinf(mc::apex(p)));
+    if (form == mc::Form::exact) CHECK(m.exact().planes() == 6); // no tension planes: no apex
+
+    // Triaxial compression in one increment from zero stress, axial strain -eps (10 x the yield
+    // strain): a corner of the hexagon, reached by both forms. The return is purely deviatoric
+    // (psi = 0), so sigma_m = -K eps is kept and the deviator is the one of q = 2c:
+    // sigma_xx = -K eps - 4c/3, sigma_yy = sigma_zz = -K eps + 2c/3.
+    {
+      const double eps = 10 * c / G;
+      Vec6 de = Vec6::Zero();
+      de[0] = -eps;
+      const Response r = respond(m, Vec6::Zero(), de);
+      REQUIRE(r.outcome.ok());
+      CHECK(r.stress[0] == Approx(-K * eps - 4 * c / 3).epsilon(1e-10));
+      CHECK(r.stress[1] == Approx(-K * eps + 2 * c / 3).epsilon(1e-10));
+      CHECK(r.stress[2] == Approx(-K * eps + 2 * c / 3).epsilon(1e-10));
+      CHECK(r.stress[1] - r.stress[0] == Approx(2 * c).epsilon(1e-10));
+      CHECK(r.stress.tail<3>().norm() <= 1e-10 * c);
+      CHECK(r.eps_p > 0.0);
+    }
+    // Simple shear (plane strain, gamma_xy only) from zero: sigma_1,3 = +-tau, sigma_2 = 0. Tresca
+    // yields at tau = c (mid-face of the hexagon); the circumscribed cylinder at tau = 2c/sqrt(3).
+    // Below that the response is elastic (tau = G gamma).
+    {
+      Vec6 de = Vec6::Zero();
+      de[3] = 0.9 * c / G;
+      const Response e = respond(m, Vec6::Zero(), de);
+      REQUIRE(e.outcome.ok());
+      CHECK(e.stress[3] == Approx(0.9 * c).epsilon(1e-12));
+      CHECK(e.eps_p == 0.0);
+      de[3] = 5 * c / G;
+      const Response r = respond(m, Vec6::Zero(), de);
+      REQUIRE(r.outcome.ok());
+      const double tau = form == mc::Form::exact ? c : 2 * c / std::sqrt(3.0);
+      CHECK(r.stress[3] == Approx(tau).epsilon(1e-9));
+      CHECK(r.stress.head<3>().norm() <= 1e-9 * c);
+      CHECK(r.stress.tail<2>().norm() <= 1e-9 * c);
+    }
+    // The strength does not depend on the mean stress: the same q = 2c at 1000 kPa of confinement
+    // and under 1000 kPa of all-round tension (no apex, no tension limit).
+    for (double mean : {-1000.0, 1000.0}) {
+      const Vec6 s0 = mean * pl::identity();
+      Vec6 de = Vec6::Zero();
+      de[1] = -10 * c / G;
+      const Response r = respond(m, s0, de);
+      REQUIRE(r.outcome.ok());
+      const Vec3 s = principal_sorted(r.stress);
+      CHECK(s[2] - s[0] == Approx(2 * c).epsilon(1e-10));
+    }
+  }
+}
+
+TEST_CASE("mohr_coulomb: Tresca (phi = 0), consistent tangent against central differences",
+          "[point][tresca]") {
+  const double c = 10.0;
+  struct Case {
+    std::string name;
+    Vec3 target;
+    std::vector<int> planes;
+  };
+  // On the prism sigma_i - sigma_j = 2c: a face (distinct principal stresses) and both edges.
+  const std::vector<Case> cases{
+      {"face", {-50, -65, -50 - 2 * c}, {mc_plane(0, 2)}},
+      {"compression edge", {-50, -50, -50 - 2 * c}, {mc_plane(0, 2), mc_plane(1, 2)}},
+      {"extension edge", {-50, -50 - 2 * c, -50 - 2 * c}, {mc_plane(0, 1), mc_plane(0, 2)}},
+  };
+  for (const Case& cs : cases) {
+    INFO(cs.name);
+    mc::Parameters p = base_parameters(mc::Form::exact, 0.0);
+    p.phi = 0.0;
+    p.c = c;
+    const mc::MohrCoulomb m(p, settings());
+    const mc::ExactReturn& ret = m.exact();
+    Vec3 trial = cs.target;
+    for (std::size_t i = 0; i < cs.planes.size(); ++i)
+      trial += ret.stiffness() * ret.plane(cs.planes[i]).b * (1e-3 * (1.0 + 0.37 * static_cast<double>(i)));
+    const Mat3 Q = rotation(0.3, -0.7, 1.1);
+    Vec6 s_n;
+    s_n << -20, -30, -10, 4, -2, 3;
+    const Vec6 de = mc::elastic_compliance(p.E, p.nu) * (rotated(trial, Q) - s_n);
+    const Response r = respond(m, s_n, de);
+    REQUIRE(r.outcome.ok());
+    const Vec3 s = principal_sorted(r.stress);
+    CHECK(s[2] - s[0] == Approx(2 * c).epsilon(1e-10));                              // on the prism
+    CHECK(pl::mean(r.stress) == Approx(pl::mean(rotated(trial, Q))).epsilon(1e-10)); // deviatoric return
+    const Mat6 fd = fd_tangent(m, s_n, de);
+    CHECK((fd - r.tangent).norm() < 1e-5 * r.tangent.norm());
+    CHECK((r.tangent - r.tangent.transpose()).norm() < 1e-10 * m.stiffness().norm()); // associated
+  }
+  // The rounded form at phi = 0 through the library's closest-point return, off the corners.
+  mc::Parameters p = base_parameters(mc::Form::rounded, 0.0);
+  p.phi = 0.0;
+  p.c = c;
+  const mc::MohrCoulomb m(p, settings());
+  Vec6 s_n;
+  s_n << -20, -30, -10, 4, -2, 3;
+  Vec6 de;
+  de << -2e-3, 1e-3, 0.5e-3, 1.5e-3, -0.4e-3, 0.7e-3;
+  const Response r = respond(m, s_n, de);
+  REQUIRE(r.outcome.ok());
+  REQUIRE(r.eps_p > 0.0);
+  const Mat6 fd = fd_tangent(m, s_n, de);
+  CHECK((fd - r.tangent).norm() < 1e-5 * r.tangent.norm());
+}

@@ -100,11 +100,30 @@ TEST_CASE("P1 Hill thick cylinder: limit pressure, plastic radius and Newton ord
   CHECK(over->model().lambda * 1.01 > 0.98);
 }
 
+TEST_CASE("mohr_coulomb: phi = 0 (Tresca) is accepted, and needs c > 0", "[tresca]") {
+  const std::string head = "[mesh]\ngenerator = \"blocks\"\n[[mesh.blocks]]\nname = \"b\"\nx = [1.0, 2.0]\n"
+                           "y = [0.0, 1.0]\nnx = 1\nny = 1\n[materials.clay]\nmodel = \"mohr_coulomb\"\n"
+                           "E = 1000.0\nphi = 0.0\n";
+  const std::string tail =
+      "[[domains]]\ncells = \"b\"\nelement = \"quad\"\nmaterial = \"clay\"\n"
+      "[[constraints]]\nnodes = \"bottom\"\nux = 0.0\nuy = 0.0\n[[loads]]\ntype = \"pressure\"\n"
+      "edges = \"b.top\"\np = 10.0\n";
+  CHECK_NOTHROW(stratum::testing::scene(head + "c = 40.0\n" + tail));
+  std::string message;
+  try {
+    (void)stratum::testing::scene(head + "c = 0.0\n" + tail, "tresca.toml");
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  INFO(message);
+  CHECK(message.starts_with("tresca.toml:13:5 "));
+  CHECK(message.find("phi = 0 (Tresca) needs a cohesion c > 0") != std::string::npos);
+}
+
 TEST_CASE("P1 Hill thick cylinder with Tresca: u_b on the closed form it is exact for", "[verification]") {
   // The closed form is Tresca's (sigma_z stays the intermediate principal stress, so the
   // ring outside the plastic radius c is an elastic cylinder under (Y/2)(1 - c^2/b^2)).
-  // Tresca is Mohr-Coulomb at phi -> 0: phi = 1e-4 deg moves the strength by at most
-  // sin(phi) |sigma_m| / k < 2e-6 here (|sigma_m| <= P_lim), far below the tolerance.
+  // Tresca is Mohr-Coulomb with phi = 0 (and psi = 0): the exact form's hexagonal prism.
   const double a = 0.1, b = 0.2, E = 2.1e8, nu = 0.3, k = 2.4e5 / std::sqrt(3.0);
   const double Y = 2 * k, p_lim = Y * std::log(b / a);
   std::string text = read(std::string(STRATUM_SOURCE_DIR) + "/inputs/verification/hill_cylinder.toml");
@@ -112,7 +131,7 @@ TEST_CASE("P1 Hill thick cylinder with Tresca: u_b on the closed form it is exac
   text = replace(text,
                  "sigma_y = 2.4e5               # kPa\nH = 0.0                       # perfectly plastic\n"
                  "integrator = \"closest_point\"  # backward Euler return with the consistent tangent\n",
-                 "c = " + std::to_string(k) + "\nphi = 1e-4\npsi = 1e-4\n");
+                 "c = " + std::to_string(k) + "\nphi = 0\npsi = 0\n");
   for (double frac : {0.5, 0.7, 0.9, 0.99}) {
     const double Pf = frac * p_lim;
     auto run = stratum::testing::scene(replace(text, "p = 190170.0", "p = " + std::to_string(Pf)),

@@ -424,7 +424,12 @@ TEST_CASE("quad: shape masks are validated and points counted", "[element]") {
   CHECK_THROWS_AS(el.check_shape(0x0Eu), stratum::Error); // corner 0 missing
   CHECK_THROWS_AS(el.check_shape(0x1F7u), stratum::Error);
   CHECK_THROWS_AS(el.check_shape(0x10Fu), stratum::Error); // slot 8 does not exist
-  CHECK_THROWS_WITH(el.check_shape(0x07u), Catch::Contains("corner slots 0-3"));
+  CHECK_THROWS_WITH(el.check_shape(0x0Bu), Catch::Contains("corner slots 0-3"));
+  // A triangle (slot 3 empty, stratum/mesh.hpp) is named, with the element that fits it.
+  CHECK_THROWS_WITH(el.check_shape(0x07u),
+                    "quad element: the cell is a 3-node triangle; use element = \"tri3\" for triangles");
+  CHECK_THROWS_WITH(el.check_shape(0x77u),
+                    "quad element: the cell is a 6-node triangle; use element = \"tri6\" for triangles");
   CHECK_THROWS_AS(QuadElement(Options{Formulation::plane_strain, 5, Volumetric::full}), stratum::Error);
   CHECK_THROWS_AS(QuadElement(Options{Formulation::plane_strain, 1, Volumetric::full}), stratum::Error);
   CHECK(QuadElement(Options{Formulation::axisymmetric, 2, Volumetric::selective}).num_points(0xFF) == 4);

@@ -1,10 +1,13 @@
 // Gmsh MSH 4.1 ASCII import.
 //
-// Quadrangles (4-, 8- and 9-node, the centre node of the 9-node one dropped) become
-// cells, turned counter-clockwise where needed. Nodes no quadrangle uses are dropped and
-// the rest numbered 0, 1, ... in file order. Physical groups become sets: dimension 2 ->
-// cell sets, 1 -> edge sets (each edge oriented along the counter-clockwise boundary of
-// the quadrangle it belongs to; a line inside the body, between two quadrangles, follows the
+// Quadrangles (4-, 8- and 9-node, the centre node of the 9-node one dropped) and triangles
+// (3- and 6-node) become cells, turned counter-clockwise where needed. A triangle takes the
+// slots of a quadrangle without corner 3: corners 0 1 2, midside 4 (edge 0-1), 5 (1-2), 6 (2-0),
+// which is Gmsh's own order. Nodes no cell uses are dropped and the rest numbered 0, 1, ...
+// in file order. Physical groups become sets: dimension 2 -> cell sets (a group holding both
+// triangles and quadrangles also gets the sets "<name>.triangles" and "<name>.quadrangles",
+// one per element kind), 1 -> edge sets (each edge oriented along the counter-clockwise
+// boundary of the cell it belongs to; a line inside the body, between two cells, follows the
 // one that comes first in the file), 0 -> node sets. Every error names file:line:column.
 #include "stratum/mesh_io.hpp"
 
@@ -160,9 +163,9 @@ ElementType element_type(long long type) {
   case 10:
     return {2, 9, "9-node quadrangle", true};
   case 2:
-    return {2, 3, "triangle", false};
+    return {2, 3, "triangle", true};
   case 9:
-    return {2, 6, "6-node triangle", false};
+    return {2, 6, "6-node triangle", true};
   case 20:
     return {2, 9, "9-node triangle", false};
   case 21:
@@ -378,8 +381,11 @@ void read_elements(Lexer& lx, GmshFile& f, const Token& section) {
       const std::string what =
           "element type " + std::to_string(type) + " (" + et.name + ") is not supported; ";
       if (et.dim == 1) lx.fail(type_at, what + "allowed lines: 2- and 3-node");
-      if (et.dim == 3) lx.fail(type_at, what + "meshes are 2D; allowed: 4-, 8- and 9-node quadrangles");
-      lx.fail(type_at, what + "allowed: 4-, 8- and 9-node quadrangles");
+      if (et.dim == 3)
+        lx.fail(type_at,
+                what + "meshes are 2D; allowed: 3- and 6-node triangles, 4-, 8- and 9-node quadrangles");
+      lx.fail(type_at,
+              what + "allowed: 3- and 6-node triangles (gmsh -order 1 or 2), 4-, 8- and 9-node quadrangles");
     }
     const int n = lx.count("the number of elements in the block");
     int nodes[9];
@@ -394,7 +400,12 @@ void read_elements(Lexer& lx, GmshFile& f, const Token& section) {
           lx.fail(node_at, "element " + std::to_string(tag) + " refers to node " + std::to_string(t) +
                                ", which is not in $Nodes");
       }
-      if (et.dim == 2) {
+      if (et.dim == 2 && (type == 2 || type == 9)) {
+        // Triangle: corners to slots 0-2, midside nodes (Gmsh order 0-1, 1-2, 2-0) to slots 4-6.
+        QuadElement q{Cell{}, entity, tag, at};
+        for (int k = 0; k < et.nodes; ++k) q.cell.nodes[k < 3 ? k : k + 1] = nodes[k];
+        f.quads.push_back(q);
+      } else if (et.dim == 2) {
         QuadElement q{Cell{}, entity, tag, at};
         for (int k = 0; k < std::min(et.nodes, 8); ++k) q.cell.nodes[k] = nodes[k];
         f.quads.push_back(q);
@@ -410,8 +421,27 @@ void read_elements(Lexer& lx, GmshFile& f, const Token& section) {
   lx.expect("$EndElements");
 }
 
+// Number of corners of a cell read from the file: 3 for a triangle (slot 3 empty), else 4.
+int corners(const Cell& c) { return c.nodes[3] < 0 ? 3 : 4; }
+
+// Turns a clockwise triangle counter-clockwise and checks its area.
+void orient_triangle(const Lexer& lx, QuadElement& q, const std::vector<Eigen::Vector2d>& x) {
+  auto& c = q.cell.nodes;
+  const Eigen::Vector2d a = x[c[1]] - x[c[0]], b = x[c[2]] - x[c[0]];
+  const double area2 = a.x() * b.y() - a.y() * b.x();
+  if (area2 < 0) {
+    // Corners 0 2 1; the midside nodes follow their edges (0-2 was 2-0, 1-0 was 0-1).
+    std::swap(c[1], c[2]);
+    std::swap(c[4], c[6]);
+  }
+  if (!(std::abs(area2) > 0))
+    lx.fail(q.at, "triangle " + std::to_string(q.tag) + " is degenerate (zero area) at (" + num(x[c[0]].x()) +
+                      ", " + num(x[c[0]].y()) + ")");
+}
+
 // Turns a clockwise quadrangle counter-clockwise and checks that it is convex.
 void orient(const Lexer& lx, QuadElement& q, const std::vector<Eigen::Vector2d>& x) {
+  if (corners(q.cell) == 3) return orient_triangle(lx, q, x);
   auto& c = q.cell.nodes;
   double area2 = 0;
   for (int k = 0; k < 4; ++k) {
@@ -435,6 +465,10 @@ void orient(const Lexer& lx, QuadElement& q, const std::vector<Eigen::Vector2d>&
   }
 }
 
+std::string kind_of(const Cell& c) {
+  return std::to_string(c.count()) + "-node " + (corners(c) == 3 ? "triangle" : "quadrangle");
+}
+
 std::uint64_t edge_key(int a, int b) {
   const auto lo = static_cast<std::uint64_t>(std::min(a, b));
   const auto hi = static_cast<std::uint64_t>(std::max(a, b));
@@ -453,10 +487,11 @@ const std::vector<int>& groups_of(const GmshFile& f, int dim, int entity) {
 }
 
 Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
-  if (f.quads.empty()) lx.fail(end, "no quadrangles (4-, 8- or 9-node) in the mesh");
+  if (f.quads.empty())
+    lx.fail(end, "no quadrangles (4-, 8- or 9-node) or triangles (3- or 6-node) in the mesh");
   for (QuadElement& q : f.quads) orient(lx, q, f.nodes);
 
-  // Keep the nodes of the quadrangles, in file order.
+  // Keep the nodes of the cells, in file order.
   std::vector<int> index(f.nodes.size(), -1);
   for (const QuadElement& q : f.quads)
     for (int v : q.cell.nodes)
@@ -501,6 +536,23 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
   }
   mesh.add_all_set();
+  // A set with both triangles and quadrangles is split by kind as well, so that each part can
+  // be given its own element (a domain has one element kind).
+  std::map<std::string, std::vector<int>> split;
+  for (const auto& [name, cells] : mesh.cell_sets) {
+    std::vector<int> tri, quad;
+    for (int c : cells) (corners(mesh.cells[static_cast<std::size_t>(c)]) == 3 ? tri : quad).push_back(c);
+    if (tri.empty() || quad.empty()) continue;
+    split[name + ".triangles"] = std::move(tri);
+    split[name + ".quadrangles"] = std::move(quad);
+  }
+  for (auto& [name, cells] : split) {
+    if (mesh.cell_sets.count(name))
+      throw Error(SourceLocation{lx.path(), end.line, end.column},
+                  "the cell set '" + name +
+                      "' made for a mixed physical group is also a physical group's name");
+    mesh.cell_sets[name] = std::move(cells);
+  }
 
   // Edge sets: orient every grouped line along the boundary of a quadrangle that has it.
   std::unordered_map<std::uint64_t, std::size_t> wanted;
@@ -509,9 +561,9 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
       wanted.emplace(edge_key(f.lines[l].nodes[0], f.lines[l].nodes[1]), l);
   std::unordered_map<std::uint64_t, std::pair<int, int>> owner; // edge -> (cell, local edge)
   for (std::size_t c = 0; c < f.quads.size() && owner.size() < wanted.size(); ++c)
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0, nc = corners(f.quads[c].cell); k < nc; ++k) {
       const auto& n = f.quads[c].cell.nodes;
-      const std::uint64_t key = edge_key(n[k], n[(k + 1) % 4]);
+      const std::uint64_t key = edge_key(n[k], n[(k + 1) % nc]);
       if (wanted.count(key)) owner.emplace(key, std::pair{static_cast<int>(c), k});
     }
   std::map<std::string, std::vector<Edge>> edge_sets;
@@ -523,18 +575,18 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
     const auto it = owner.find(edge_key(l.nodes[0], l.nodes[1]));
     if (it == owner.end())
       lx.fail(l.at, "line " + std::to_string(l.tag) + " of physical group '" + group_name(f, 1, groups[0]) +
-                        "' is not a side of any quadrangle");
+                        "' is not a side of any cell");
     const auto [c, k] = it->second;
     const Cell& cell = f.quads[c].cell;
-    Edge e{index[cell.nodes[k]], index[cell.nodes[(k + 1) % 4]], -1};
+    Edge e{index[cell.nodes[k]], index[cell.nodes[(k + 1) % corners(cell)]], -1};
     const int cell_mid = cell.nodes[4 + k];
     if (l.nodes[2] >= 0) {
       if (cell_mid < 0)
-        lx.fail(l.at, "3-node line " + std::to_string(l.tag) + " lies on 4-node quadrangle " +
+        lx.fail(l.at, "3-node line " + std::to_string(l.tag) + " lies on " + kind_of(cell) + " " +
                           std::to_string(f.quads[c].tag) + ", which has no midside node");
       if (l.nodes[2] != cell_mid)
-        lx.fail(l.at, "the midside node of line " + std::to_string(l.tag) +
-                          " is not the midside node of quadrangle " + std::to_string(f.quads[c].tag));
+        lx.fail(l.at, "the midside node of line " + std::to_string(l.tag) + " is not the midside node of " +
+                          kind_of(cell) + " " + std::to_string(f.quads[c].tag));
     }
     if (cell_mid >= 0) e.mid = index[cell_mid];
     for (int tag : groups) edge_sets[group_name(f, 1, tag)].push_back(e);
@@ -547,7 +599,7 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
       const std::string name = group_name(f, 0, tag);
       if (index[p.node] < 0)
         lx.fail(p.at, "point " + std::to_string(p.tag) + " of physical group '" + name +
-                          "' is not a node of any quadrangle");
+                          "' is not a node of any cell");
       if (mesh.edge_sets.count(name))
         lx.fail(p.at, "physical name '" + name + "' is used by a point group and a curve group");
       mesh.node_sets[name].push_back(index[p.node]);

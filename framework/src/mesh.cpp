@@ -62,12 +62,14 @@ void Mesh::check() const {
                     ", which does not exist (the mesh has " + std::to_string(n) + " nodes)");
     }
     if (cell.kind != CellKind::solid) continue; // interface cells: zero thickness by design
-    for (int s = 0; s < 4; ++s)
+    // A triangle is a solid cell without corner 3 and its edge's midside slot 7.
+    const int nc = cell.nodes[3] < 0 && cell.nodes[7] < 0 ? 3 : 4;
+    for (int s = 0; s < nc; ++s)
       if (cell.nodes[s] < 0) throw Error(cell_name(c) + ": corner slot " + std::to_string(s) + " is empty");
-    for (int s = 0; s < 4; ++s) {
+    for (int s = 0; s < nc; ++s) {
       const Eigen::Vector2d& p = nodes[cell.nodes[s]];
-      const Eigen::Vector2d next = nodes[cell.nodes[(s + 1) % 4]] - p;
-      const Eigen::Vector2d prev = nodes[cell.nodes[(s + 3) % 4]] - p;
+      const Eigen::Vector2d next = nodes[cell.nodes[(s + 1) % nc]] - p;
+      const Eigen::Vector2d prev = nodes[cell.nodes[(s + nc - 1) % nc]] - p;
       const double cross = next.x() * prev.y() - next.y() * prev.x();
       if (!(cross > 0.0))
         throw Error(cell_name(c) + ": corner " + std::to_string(s) + " (node " +

@@ -57,12 +57,25 @@ std::vector<Edge> load_edges(const Model& model, const LoadSpec& spec) {
   if (!spec.top_of_cells) return model.mesh.edge_sets.at(spec.set);
   double top = -std::numeric_limits<double>::infinity();
   const auto& cells = model.mesh.cell_sets.at(spec.set);
-  for (int c : cells)
-    if (model.is_active(c)) top = std::max(top, model.mesh.nodes[model.mesh.cells[c].nodes[2]].y());
+  for (int c : cells) {
+    if (!model.is_active(c)) continue;
+    const auto& n = model.mesh.cells[c].nodes;
+    top = std::max(top, model.mesh.nodes[n[2]].y());
+    if (n[3] < 0) // a triangle's top may be any of its corners
+      top = std::max({top, model.mesh.nodes[n[0]].y(), model.mesh.nodes[n[1]].y()});
+  }
   std::vector<Edge> edges;
   for (int c : cells) {
     if (!model.is_active(c)) continue;
     const auto& n = model.mesh.cells[c].nodes;
+    if (n[3] < 0) { // triangle (slot 3 empty): any of its edges k -> k+1 (midside 4 + k) on the top
+      for (int k = 0; k < 3; ++k) {
+        const int a = n[k], b = n[(k + 1) % 3];
+        if (std::abs(model.mesh.nodes[a].y() - top) < 1e-9 && std::abs(model.mesh.nodes[b].y() - top) < 1e-9)
+          edges.push_back(Edge{a, b, n[4 + k]});
+      }
+      continue;
+    }
     // Top side of a quadrilateral cell, counter-clockwise: corner 2 -> corner 3, midside 6.
     if (std::abs(model.mesh.nodes[n[2]].y() - top) < 1e-9 &&
         std::abs(model.mesh.nodes[n[3]].y() - top) < 1e-9)

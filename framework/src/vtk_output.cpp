@@ -281,6 +281,13 @@ int vtk_cell(const Cell& c, int index, std::size_t num_nodes, unsigned char& typ
     ids[4] = c.nodes[4], ids[5] = c.nodes[6];
     return 6;
   }
+  if (shape == 0x07u || shape == 0x77u) { // triangle: corners 0-2, midside 4 (0-1), 5 (1-2), 6 (2-0)
+    type = shape == 0x07u ? VTK_TRIANGLE : VTK_QUADRATIC_TRIANGLE;
+    ids[0] = c.nodes[0], ids[1] = c.nodes[1], ids[2] = c.nodes[2];
+    if (shape == 0x07u) return 3;
+    ids[3] = c.nodes[4], ids[4] = c.nodes[5], ids[5] = c.nodes[6];
+    return 6;
+  }
   if ((shape & 0x0Fu) != 0x0Fu) {
     throw Error("VTK output: cell " + std::to_string(index) + " lacks a corner node");
   }

@@ -28,6 +28,10 @@ std::unique_ptr<stratum::Material> create(const Params& p) {
   if (m.psi > m.phi)
     throw Error(p.where("psi"), prefix + "the dilatancy angle psi = " + std::to_string(m.psi) +
                                     " must not exceed the friction angle phi = " + std::to_string(m.phi));
+  if (m.phi == 0.0 && m.c <= 0.0)
+    throw Error(p.where("c"), prefix +
+                                  "phi = 0 (Tresca) needs a cohesion c > 0 (the undrained strength s_u); "
+                                  "with c = 0 the material has no strength");
   if (m.tension < 0.0 && m.tension != -1.0)
     throw Error(p.where("tension"), prefix + "tension must be >= 0, or -1 for no cut-off");
   if (m.form == mc::Form::rounded && mc::effective_tension(m) >= 0.0)
@@ -53,7 +57,11 @@ STRATUM_PLUGIN(registry) {
               "Gudehus-rounded, non-associated flow";
   stratum::add_isotropic_elastic_parameters(f.schema);
   f.schema.real("c", "kPa", "cohesion").at_least(0.0);
-  f.schema.real("phi", "deg", "friction angle").greater_than(0.0).less_than(90.0);
+  f.schema
+      .real("phi", "deg",
+            "friction angle; 0 gives Tresca with (sigma_1 - sigma_3) / 2 = c (then psi = 0 and c > 0)")
+      .at_least(0.0)
+      .less_than(90.0);
   f.schema
       .real("psi", "deg",
             "dilatancy angle of the plastic potential, at most phi (psi = phi: associated flow)")
@@ -63,7 +71,7 @@ STRATUM_PLUGIN(registry) {
   f.schema
       .real("tension", "kPa",
             "tension cut-off: largest allowed principal stress (exact form only); -1: none, i.e. the apex "
-            "c cot(phi)")
+            "c cot(phi) (none at all for phi = 0)")
       .at_least(-1.0)
       .defaults_to(-1.0);
   f.schema

@@ -33,6 +33,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <span>
 #include <string>
@@ -50,7 +51,7 @@ struct Parameters {
   double E = 0.0;        ///< Young's modulus
   double nu = 0.3;       ///< Poisson's ratio
   double c = 0.0;        ///< cohesion (>= 0)
-  double phi = 30.0;     ///< friction angle, (0, 90)
+  double phi = 30.0;     ///< friction angle, [0, 90); 0 is Tresca (then c > 0)
   double psi = 0.0;      ///< dilatancy angle, [0, phi]
   double tension = -1.0; ///< tension cut-off on the largest principal stress; < 0: none
   Form form = Form::exact;
@@ -72,8 +73,11 @@ struct Parameters {
   return S;
 }
 
-/// Apex of the Mohr-Coulomb pyramid (and of the rounded cone): sigma_m = c cot(phi).
-[[nodiscard]] inline double apex(const Parameters& p) { return p.c / std::tan(radians(p.phi)); }
+/// Apex of the Mohr-Coulomb pyramid (and of the rounded cone): sigma_m = c cot(phi); +infinity
+/// for phi = 0 (Tresca: a prism, no apex).
+[[nodiscard]] inline double apex(const Parameters& p) {
+  return p.phi == 0.0 ? std::numeric_limits<double>::infinity() : p.c / std::tan(radians(p.phi));
+}
 
 /// The tension cut-off in effect: none (a negative value) when the given value is negative or
 /// not below the apex, where it could never be reached.
@@ -242,8 +246,9 @@ public:
                      1e-9 * D_(3, 3)});
   }
 
-  /// Mean stress at the apex, c cot(phi).
+  /// Mean stress at the apex, c cot(phi); +infinity for phi = 0 (a cylinder, no apex).
   [[nodiscard]] double apex() const {
+    if (yield_.sin_angle == 0.0) return std::numeric_limits<double>::infinity();
     return c_ * std::sqrt(1.0 - yield_.sin_angle * yield_.sin_angle) / yield_.sin_angle;
   }
   [[nodiscard]] const Rounding& yield_rounding() const { return yield_; }
@@ -336,8 +341,11 @@ public:
       }
     // Without a cut-off the three tension planes pass through the apex, where they only add
     // their normals to the apex's normal cone (a volumetric mechanism needed when psi = 0).
+    // Tresca (phi = 0) without a cut-off is a prism with no apex: no tension planes at all
+    // (planes at infinity would only bring infinities into the active-set solves).
     const double T = effective_tension(p) >= 0.0 ? effective_tension(p) : apex(p);
-    for (int i = 0; i < 3; ++i) planes_.push_back({Vec3::Unit(i), T, Vec3::Unit(i)});
+    if (std::isfinite(T))
+      for (int i = 0; i < 3; ++i) planes_.push_back({Vec3::Unit(i), T, Vec3::Unit(i)});
     const double lambda = p.E * p.nu / ((1.0 + p.nu) * (1.0 - 2.0 * p.nu)), G = p.E / (2.0 * (1.0 + p.nu));
     Dp_.setConstant(lambda);
     Dp_.diagonal().array() += 2.0 * G;

@@ -51,6 +51,9 @@ inline constexpr std::array<std::array<int, 2>, 4> edge_corners{{{0, 1}, {1, 2},
 /// Throws stratum::Error unless the mask is a quadrilateral this family handles.
 inline void require_valid_shape(unsigned shape) {
   if (valid_shape(shape)) return;
+  if (shape == 0x07u || shape == 0x77u) // a triangle (stratum/mesh.hpp): say which element fits
+    throw Error(std::string("quad element: the cell is a ") + (shape == 0x07u ? "3" : "6") +
+                "-node triangle; use element = \"" + (shape == 0x07u ? "tri3" : "tri6") + "\" for triangles");
   char hex[16];
   std::snprintf(hex, sizeof hex, "0x%x", shape);
   throw Error(std::string("quad element: node mask ") + hex +

@@ -29,6 +29,8 @@ enum class Formulation { plane_strain, axisymmetric };
 /// slot 4 the midside node of edge 0-1, 5 of 1-2, 6 of 2-3, 7 of 3-0.
 /// Rows of `x` are the present nodes in slot order (corners first), so a
 /// 4-node quad has shape 0x0F and 4 rows, an 8-node quad 0xFF and 8 rows.
+/// A triangle leaves slots 3 and 7 empty: corners 0-2, midside 4 (edge 0-1),
+/// 5 (1-2), 6 (2-0); shape 0x07 (3 nodes) or 0x77 (6 nodes).
 struct ElementData {
   int id = -1;               ///< global cell index (for messages)
   unsigned shape = 0;        ///< present node slots

@@ -34,7 +34,8 @@ struct OutputStep {
 /// Writes <dir>/<stem>_<k>.vtu and <dir>/<stem>_ip_<k>.vtp for k = 0, 1, ... and keeps
 /// <dir>/<stem>.pvd and <dir>/<stem>_ip.pvd up to date after every step.
 /// Cells: 4-node quads as VTK_QUAD, 8-node as VTK_QUADRATIC_QUAD, 5-7-node transition
-/// quads as VTK_POLYGON through corners and midside nodes in boundary order.
+/// quads as VTK_POLYGON through corners and midside nodes in boundary order; 3- and 6-node
+/// triangles as VTK_TRIANGLE and VTK_QUADRATIC_TRIANGLE.
 class VtkSeriesWriter {
 public:
   VtkSeriesWriter(std::string directory, std::string stem);
