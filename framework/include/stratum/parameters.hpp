@@ -12,9 +12,10 @@
 //   d.choice(&Constants::form, "form", {{"exact", Form::exact}, {"rounded", Form::rounded}},
 //            "shape of the surface").defaults_to(std::string("exact"));
 //   d.check([](const Constants& c) -> std::optional<stratum::Problem> { ... });
-//   f.schema = d.schema();
-//   f.create = [d](const stratum::Params& p) { return make(d.read(p)); };
+//   registry.add(stratum::material_factory("my_model", "one line", d,
+//       [](const Constants& c, const stratum::Params&) { return std::make_unique<MyModel>(c); }));
 //
+// docs/plugin-guide.md (section 4 and "The toolkit for model authors") explains it in full.
 // TOML -> schema check (ranges, types, defaults; the scene reader) -> read() (binding, then the
 // checks in the order declared) -> the constants the model computes with.
 #pragma once
@@ -59,12 +60,20 @@ struct Problem {
 }
 
 /// The member of a member: nested(&Input::initial, &Initial::ocr) binds input.initial.ocr.
-template <class Outer, class Inner, class M> [[nodiscard]] auto nested(Inner Outer::*outer, M Inner::*inner) {
-  return [outer, inner](Outer& o) -> M& { return (o.*outer).*inner; };
+template <class Outer, class Inner, class M> struct Nested {
+  Inner Outer::*outer;
+  M Inner::*inner;
+  M& operator()(Outer& o) const { return (o.*outer).*inner; }
+  const M& operator()(const Outer& o) const { return (o.*outer).*inner; }
+};
+template <class Outer, class Inner, class M>
+[[nodiscard]] Nested<Outer, Inner, M> nested(Inner Outer::*outer, M Inner::*inner) {
+  return {outer, inner};
 }
 
 /// The parameters of one plugin, each declared once and bound to where its value goes in T
-/// (a pointer to a member of T, or a callable T& -> member&, e.g. nested()).
+/// (a pointer to a member of T, or nested(); any callable T& -> member& binds, and one that also
+/// takes a const T& can be used in declare_strength).
 template <class T> class Declared {
 public:
   /// The type of the member an accessor reaches.
@@ -185,7 +194,7 @@ void declare_strength(Declared<T>& d, AtC c, AtPhi phi, AtPsi psi, const Strengt
     fs.greater_than(0.0);
   d.real(psi, "psi", "deg", text.dilatancy).at_least(0.0).less_than(90.0).defaults_to(0.0);
   d.check([phi, psi](const T& t, const Params&) -> std::optional<Problem> {
-    const double f = std::invoke(phi, const_cast<T&>(t)), s = std::invoke(psi, const_cast<T&>(t));
+    const double f = std::invoke(phi, t), s = std::invoke(psi, t);
     if (s > f)
       return Problem{"psi", "the dilatancy angle psi = " + number(s) +
                                 " must not exceed the friction angle phi = " + number(f)};
