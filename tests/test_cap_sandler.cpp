@@ -87,7 +87,7 @@ Mat6 fd_tangent(const Point& p, const Vec6& de, double h) {
 
 /// The plastic strain increment de - D^-1 dsigma (tension positive, engineering shear).
 Vec6 plastic_increment(const cs::Constants& c, const Vec6& s0, const Vec6& s1, const Vec6& de) {
-  const Mat6 D = cs::stiffness(c.K(), c.G());
+  const Mat6 D = stratum::stiffness_kg(c.K(), c.G());
   return de - D.inverse() * (s1 - s0);
 }
 

@@ -458,7 +458,7 @@ TEST_CASE("duncan_chang: tension and failure regimes", "[duncan_chang]") {
     const Result r = update(m, s, e, h, de);
     REQUIRE(r.o.ok());
     s = r.stress, e += de, h = r.h;
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(dc::stress_tensor(s));
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(stratum::stress_tensor(s));
     CHECK(es.eigenvalues()[2] <= 1e-12);
   }
   // The cut-off is active: the axial stress has been pulled to zero, not beyond.
@@ -492,7 +492,7 @@ TEST_CASE("duncan_chang: finite-difference check of the tangent", "[duncan_chang
     s2[2] -= 0.3 * q;
     const dc::Moduli mo = m.moduli(m.point(s2), false);
     const Result r0 = update(m, s2, Vec6::Zero(), h, Vec6::Zero());
-    CHECK((r0.tangent - dc::stiffness_kg(mo.K, mo.G)).cwiseAbs().maxCoeff() <
+    CHECK((r0.tangent - stratum::stiffness_kg(mo.K, mo.G)).cwiseAbs().maxCoeff() <
           1e-6 * r0.tangent.cwiseAbs().maxCoeff());
     // Strictly inside the unloading region the map is smooth at a zero increment too.
     CHECK(tangent_error(m, s2, Vec6::Zero(), hist(0.7, 2.0 * q), Vec6::Zero()) < 1e-5);
@@ -563,14 +563,14 @@ TEST_CASE("duncan_chang: the explicit update is one forward-Euler step of the hy
   const Vec6 de = (Vec6() << 2e-4, -7.5e-4, 1.5e-4, 1e-4, -5e-5, 3e-5).finished();
   const dc::DuncanChang m(constants(dc::Update::explicit_step));
   const dc::Moduli mo = m.moduli(m.point(s), false);
-  const Mat6 D = dc::stiffness_kg(mo.K, mo.G);
+  const Mat6 D = stratum::stiffness_kg(mo.K, mo.G);
   const Result r = update(m, s, Vec6::Zero(), hist(0.5, q), de);
   CHECK((r.stress - (s + D * de)).cwiseAbs().maxCoeff() < 1e-9 * s.cwiseAbs().maxCoeff());
   CHECK((r.tangent - D).cwiseAbs().maxCoeff() < 1e-6 * D.cwiseAbs().maxCoeff());
   // Unloading: the E_ur moduli of the start (E_ur (2.40), nu = f).
   const dc::Moduli mu = m.moduli(m.point(s), true);
   const Result ru = update(m, s, Vec6::Zero(), hist(0.5, q), Vec6(-de));
-  CHECK((ru.stress - (s - dc::stiffness_kg(mu.K, mu.G) * de)).cwiseAbs().maxCoeff() <
+  CHECK((ru.stress - (s - stratum::stiffness_kg(mu.K, mu.G) * de)).cwiseAbs().maxCoeff() <
         1e-9 * s.cwiseAbs().maxCoeff());
   // Along a drained triaxial path to S = 0.9 the error against the hyperbola (2.26) is first order
   // in the step: halving the step halves it (ratio 2 within 15 %).
@@ -632,7 +632,7 @@ TEST_CASE("duncan_chang: the explicit update's closed-form tangent in every regi
     REQUIRE(r.o.ok());
     const dc::Moduli mo = m.moduli(m.point(sf), false);
     CHECK(mo.E == Approx(1e-3 * m.point(sf).E_i).epsilon(1e-12));
-    CHECK((r.tangent - dc::stiffness_kg(mo.K, mo.G)).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((r.tangent - stratum::stiffness_kg(mo.K, mo.G)).cwiseAbs().maxCoeff() == 0.0);
     CHECK(tangent_error(m, sf, Vec6::Zero(), hf, 0.01 * de3) < 1e-6);
   }
   // Crossing: the historical maximum just above the start, so the E_ur trial crosses it within

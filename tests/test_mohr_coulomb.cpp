@@ -86,11 +86,11 @@ Mat3 rotation(double a, double b, double c) {
 }
 
 Vec6 rotated(const Vec3& principal, const Mat3& Q) {
-  return mc::to_voigt(Q * principal.asDiagonal() * Q.transpose());
+  return stratum::stress_voigt(Q * principal.asDiagonal() * Q.transpose());
 }
 
 Vec3 principal_sorted(const Vec6& s) {
-  Vec3 v = Eigen::SelfAdjointEigenSolver<Mat3>(mc::to_tensor(s)).eigenvalues();
+  Vec3 v = Eigen::SelfAdjointEigenSolver<Mat3>(stratum::stress_tensor(s)).eigenvalues();
   return v; // ascending
 }
 
@@ -306,7 +306,7 @@ TEST_CASE("mohr_coulomb: exact form, every regime from a trial with a known answ
       // The same through the spectral return of the material, in rotated axes.
       const Mat3 Q = rotation(0.3, -0.7, 1.1);
       const mc::MohrCoulomb m(p, settings());
-      const Vec6 de = mc::elastic_compliance(p.E, p.nu) * rotated(trial, Q);
+      const Vec6 de = stratum::isotropic_compliance(p.E, p.nu) * rotated(trial, Q);
       const Response r = respond(m, Vec6::Zero(), de);
       REQUIRE(r.outcome.ok());
       CHECK((r.stress - rotated(cs.target, Q)).norm() < 1e-10 * scale);
@@ -314,7 +314,7 @@ TEST_CASE("mohr_coulomb: exact form, every regime from a trial with a known answ
       // Associated flow: the plastic strain lies in the normal cone, i.e. the return is the
       // closest point in the energy norm: (sigma* - sigma) : d eps_p <= 0 for every admissible sigma*.
       if (psi == p.phi) {
-        const Vec6 dep = de - mc::elastic_compliance(p.E, p.nu) * r.stress;
+        const Vec6 dep = de - stratum::isotropic_compliance(p.E, p.nu) * r.stress;
         CHECK(r.eps_p == Approx(mc::equivalent_plastic_strain(dep)).epsilon(1e-12));
         int tried = 0;
         while (tried < 300) {
@@ -367,7 +367,7 @@ TEST_CASE("mohr_coulomb: exact form, consistent tangent against central differen
       const Mat3 Q = rotation(0.3, -0.7, 1.1);
       Vec6 s_n;
       s_n << -20, -30, -10, 4, -2, 3;
-      const Vec6 de = mc::elastic_compliance(p.E, p.nu) * (rotated(trial, Q) - s_n);
+      const Vec6 de = stratum::isotropic_compliance(p.E, p.nu) * (rotated(trial, Q) - s_n);
       const Response r = respond(m, s_n, de);
       REQUIRE(r.outcome.ok());
       const Mat6 fd = fd_tangent(m, s_n, de);
@@ -432,7 +432,7 @@ TEST_CASE("mohr_coulomb: rounded form, apex regime", "[point]") {
     const double G = 2.0e4 / 2.6, K = 2.0e4 / (3 * 0.4);
     const Vec6 trial = rotated(Vec3(30, 25, 20), rotation(0.2, 0.4, -0.3));
     REQUIRE(mc::rounded_apex_regime(m.rounded_model(), G, K, trial));
-    const Vec6 de = mc::elastic_compliance(2.0e4, 0.3) * trial;
+    const Vec6 de = stratum::isotropic_compliance(2.0e4, 0.3) * trial;
     const Response r = respond(m, Vec6::Zero(), de);
     REQUIRE(r.outcome.ok());
     CHECK((r.stress - m.rounded_model().apex() * pl::identity()).norm() < 1e-12 * r.stress.norm());
@@ -461,7 +461,7 @@ TEST_CASE("mohr_coulomb: rounded form, apex regime", "[point]") {
     REQUIRE(mc::rounded_apex_regime(m.rounded_model(), G, K, trial(hi)));
     for (int i = 0; i < 200; ++i)
       (mc::rounded_apex_regime(m.rounded_model(), G, K, trial(0.5 * (lo + hi))) ? hi : lo) = 0.5 * (lo + hi);
-    const Mat6 S = mc::elastic_compliance(2.0e4, 0.3);
+    const Mat6 S = stratum::isotropic_compliance(2.0e4, 0.3);
     for (double delta : {1e-1, 1e-2, 1e-3}) {
       const Response a = respond(m, Vec6::Zero(), S * trial(lo - delta));
       const Response b = respond(m, Vec6::Zero(), S * trial(hi + delta));
@@ -518,7 +518,7 @@ TEST_CASE("mohr_coulomb: exact form, no stiffness for the modes that split an ed
     const Vec6 s_n = -100.0 * pl::identity();
     Vec6 trial;
     trial << -100, -600, -100, 0, 0, 0;
-    const Vec6 de = mc::elastic_compliance(2.0e4, 0.3) * (trial - s_n);
+    const Vec6 de = stratum::isotropic_compliance(2.0e4, 0.3) * (trial - s_n);
     const Response r = respond(m, s_n, de);
     REQUIRE(r.outcome.ok());
     REQUIRE(r.eps_p > 1e-6);
@@ -630,7 +630,7 @@ TEST_CASE("mohr_coulomb: Tresca (phi = 0), consistent tangent against central di
     const Mat3 Q = rotation(0.3, -0.7, 1.1);
     Vec6 s_n;
     s_n << -20, -30, -10, 4, -2, 3;
-    const Vec6 de = mc::elastic_compliance(p.E, p.nu) * (rotated(trial, Q) - s_n);
+    const Vec6 de = stratum::isotropic_compliance(p.E, p.nu) * (rotated(trial, Q) - s_n);
     const Response r = respond(m, s_n, de);
     REQUIRE(r.outcome.ok());
     const Vec3 s = principal_sorted(r.stress);

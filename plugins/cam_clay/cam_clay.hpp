@@ -21,8 +21,10 @@
 // return does) integrates p_c exactly too. The material's history stores p_c itself.
 #pragma once
 
+#include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/plasticity/integrate.hpp"
 #include "stratum/plasticity/invariants.hpp"
 #include "stratum/plasticity/model.hpp"
@@ -65,18 +67,6 @@ struct Constants {
   }
 };
 
-/// What makes a parameter set inadmissible: the parameter to blame and why.
-struct Problem {
-  std::string parameter;
-  std::string message;
-};
-
-[[nodiscard]] inline std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 /// Checks what the schema ranges cannot: kappa < lambda, and finite, positive constants.
 [[nodiscard]] inline std::optional<Problem> check(const Constants& c) {
   if (!(c.M > 0.0)) return Problem{"M", "M = " + number(c.M) + " must be positive"};
@@ -98,15 +88,6 @@ struct Problem {
 /// Compression-positive mean effective stress.
 [[nodiscard]] inline double pressure(const Vec6& s) { return plasticity::p_comp(s); }
 
-/// d shat / d sigma, where shat = to_strain_like(deviator(sigma)) = d J2 / d sigma.
-[[nodiscard]] inline Mat6 deviatoric_projector_strain_like() {
-  Mat6 P = Mat6::Zero();
-  P.topLeftCorner<3, 3>().setConstant(-1.0 / 3.0);
-  for (int i = 0; i < 3; ++i) P(i, i) += 1.0;
-  for (int i = 3; i < 6; ++i) P(i, i) = 2.0;
-  return P;
-}
-
 /// phi(x) = (e^x - 1) / x, the mean of e^(x t) over t in [0, 1].
 [[nodiscard]] inline double phi(double x) { return x == 0.0 ? 1.0 : std::expm1(x) / x; }
 /// phi'(x), by its series near 0 where the closed form cancels.
@@ -126,7 +107,7 @@ struct Problem {
 /// Internal variable: q[0] = xi = ln(p_c / kPa).
 class Model final : public plasticity::Model {
 public:
-  explicit Model(const Constants& c) : c_(c), P_(deviatoric_projector_strain_like()) {}
+  explicit Model(const Constants& c) : c_(c), P_(plasticity::deviatoric_projector_strain_like()) {}
 
   [[nodiscard]] const Constants& constants() const { return c_; }
 
@@ -287,13 +268,7 @@ public:
   }
 
 private:
-  [[nodiscard]] static Mat6 stiffness(double K, double G) {
-    Mat6 D = Mat6::Zero();
-    D.topLeftCorner<3, 3>().setConstant(K - 2.0 * G / 3.0);
-    for (int i = 0; i < 3; ++i) D(i, i) += 2.0 * G;
-    for (int i = 3; i < 6; ++i) D(i, i) = G;
-    return D;
-  }
+  [[nodiscard]] static Mat6 stiffness(double K, double G) { return stratum::stiffness_kg(K, G); }
   [[nodiscard]] double shear_modulus(double pe) const { return c_.G > 0.0 ? c_.G : c_.shear_ratio() * pe; }
   /// x = v0 de_v / kappa with de_v the compression-positive volumetric strain increment.
   [[nodiscard]] double volumetric_exponent(const Vec6& de) const {
@@ -334,6 +309,10 @@ public:
   [[nodiscard]] const plasticity::Settings& settings() const { return settings_; }
 
   [[nodiscard]] int history_size() const override { return 1; }
+  /// The preconsolidation pressure, written to the VTK output as "p_c [kPa]".
+  [[nodiscard]] std::vector<std::string> history_names() const override {
+    return stratum::history_names({{"p_c", "kPa"}});
+  }
 
   /// p_c0 = ocr * p_eq with p_eq the p_c of the yield surface through the initial stress
   /// (p_eq = p0 for an isotropic stress). A mean stress below p_min counts as p_min. An

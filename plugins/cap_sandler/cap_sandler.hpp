@@ -26,8 +26,10 @@
 // eps_v^p(kappa) = W (1 - exp(-D (X(kappa) - Z))); kappa follows from it by inverting X(kappa).
 #pragma once
 
+#include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/plasticity/integrate.hpp"
 #include "stratum/plasticity/invariants.hpp"
 #include "stratum/plasticity/model.hpp"
@@ -119,17 +121,6 @@ struct Constants {
   }
 };
 
-struct Problem {
-  std::string parameter;
-  std::string message;
-};
-
-[[nodiscard]] inline std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 /// Checks what the schema ranges cannot.
 [[nodiscard]] inline std::optional<Problem> check(const Constants& c) {
   if (!(c.A > c.C))
@@ -151,23 +142,6 @@ struct Problem {
 [[nodiscard]] inline double J1c(const Vec6& s) { return -(s[0] + s[1] + s[2]); }
 [[nodiscard]] inline double rootJ2(const Vec6& s) { return std::sqrt(plasticity::j2(s)); }
 
-/// d shat / d sigma, shat = to_strain_like(deviator(sigma)) = d J2 / d sigma.
-[[nodiscard]] inline Mat6 projector() {
-  Mat6 P = Mat6::Zero();
-  P.topLeftCorner<3, 3>().setConstant(-1.0 / 3.0);
-  for (int i = 0; i < 3; ++i) P(i, i) += 1.0;
-  for (int i = 3; i < 6; ++i) P(i, i) = 2.0;
-  return P;
-}
-
-[[nodiscard]] inline Mat6 stiffness(double K, double G) {
-  Mat6 D = Mat6::Zero();
-  D.topLeftCorner<3, 3>().setConstant(K - 2.0 * G / 3.0);
-  for (int i = 0; i < 3; ++i) D(i, i) += 2.0 * G;
-  for (int i = 3; i < 6; ++i) D(i, i) = G;
-  return D;
-}
-
 /// Stress with compression-positive J1 and the deviator of `dev` scaled to root J2 = r.
 [[nodiscard]] inline Vec6 compose(double J1, const Vec6& dev, double rj2_dev, double r) {
   Vec6 s = rj2_dev > 0.0 ? Vec6((r / rj2_dev) * dev) : Vec6(Vec6::Zero());
@@ -182,7 +156,8 @@ class Model final : public plasticity::Model {
 public:
   static constexpr int envelope = 0, cap = 1, tension = 2;
 
-  explicit Model(const Constants& c) : c_(c), D_(stiffness(c.K(), c.G())), P_(projector()) {}
+  explicit Model(const Constants& c)
+      : c_(c), D_(stiffness_kg(c.K(), c.G())), P_(plasticity::deviatoric_projector_strain_like()) {}
   [[nodiscard]] const Constants& constants() const { return c_; }
 
   [[nodiscard]] int internal_size() const override { return 1; }
@@ -322,7 +297,7 @@ struct SRResult {
                                             const Vec6& de) {
   SRResult r;
   const double K = c.K(), G = c.G();
-  const Vec6 trial = sigma_n + stiffness(K, G) * de; // (4.51)-(4.52), constant K and G
+  const Vec6 trial = sigma_n + stiffness_kg(K, G) * de; // (4.51)-(4.52), constant K and G
   const double J1E = J1c(trial);
   const Vec6 sE = plasticity::deviator(trial);
   const double rE = rootJ2(trial);
@@ -477,6 +452,11 @@ public:
   [[nodiscard]] const Model& model() const { return model_; }
   [[nodiscard]] Integration integration() const { return integration_; }
   [[nodiscard]] int history_size() const override { return 3; }
+  /// The VTK names of the history: the cap parameter kappa, the accumulated plastic volumetric
+  /// strain (compression positive) and the regime code of point_status.
+  [[nodiscard]] std::vector<std::string> history_names() const override {
+    return stratum::history_names({{"kappa", "kPa"}, {"eps_v_p", "-"}, {"regime", "-"}});
+  }
   [[nodiscard]] bool symmetric_tangent() const override { return true; } // associated flow
   /// The regime of the last increment (history[2]): 0 elastic, 1 tension, 2 envelope, 3 corner,
   /// 4 cap.

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "stratum/contact_law.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/params.hpp"
 
 #include <cmath>
@@ -83,33 +84,31 @@ private:
   Constants c_;
 };
 
-inline Schema schema() {
-  Schema s;
-  s.real("k_s", "kPa/m", "elastic shear stiffness").greater_than(0.0);
-  s.real("k_n", "kPa/m", "elastic normal stiffness").greater_than(0.0);
-  s.real("c", "kPa", "cohesion (adhesion) of the interface").at_least(0.0).defaults_to(0.0);
-  s.real("phi", "deg", "interface friction angle").at_least(0.0).less_than(90.0).defaults_to(0.0);
-  s.real("psi", "deg", "dilation angle (psi = phi: associated)")
+/// The parameters, each declared once and bound to its member of Constants (the angles in degrees
+/// as written; create() converts them to radians).
+inline Declared<Constants> declaration() {
+  Declared<Constants> d;
+  d.real(&Constants::k_s, "k_s", "kPa/m", "elastic shear stiffness").greater_than(0.0);
+  d.real(&Constants::k_n, "k_n", "kPa/m", "elastic normal stiffness").greater_than(0.0);
+  StrengthText text;
+  text.cohesion = "cohesion (adhesion) of the interface";
+  text.friction = "interface friction angle";
+  text.dilatancy = "dilation angle (psi = phi: associated)";
+  text.cohesion_default = 0.0;
+  text.frictionless = true;
+  declare_strength(d, &Constants::c, &Constants::phi, &Constants::psi, text);
+  d.real(&Constants::sigma_t, "sigma_t", "kPa", "tensile strength of the intact interface; 0: no tension")
       .at_least(0.0)
-      .less_than(90.0)
       .defaults_to(0.0);
-  s.real("sigma_t", "kPa", "tensile strength of the intact interface; 0: no tension")
-      .at_least(0.0)
-      .defaults_to(0.0);
-  return s;
+  return d;
 }
 
+inline Schema schema() { return declaration().schema(); }
+
 inline std::unique_ptr<ContactLaw> create(const Params& p) {
-  Constants c;
-  c.k_s = p.real("k_s");
-  c.k_n = p.real("k_n");
-  c.c = p.real("c");
-  c.phi = p.real("phi") * std::numbers::pi / 180.0;
-  c.psi = p.real("psi") * std::numbers::pi / 180.0;
-  c.sigma_t = p.real("sigma_t");
-  if (c.psi > c.phi)
-    throw Error(p.where("psi"), p.context + " psi = " + std::to_string(p.real("psi")) +
-                                    " exceeds phi; allowed: 0 <= psi <= phi");
+  Constants c = declaration().read(p);
+  c.phi = c.phi * std::numbers::pi / 180.0; // as (phi pi) / 180, the rounding of the results
+  c.psi = c.psi * std::numbers::pi / 180.0;
   return std::make_unique<CoulombInterface>(c);
 }
 

@@ -17,6 +17,7 @@
 #include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/plasticity/integrate.hpp"
 #include "stratum/plasticity/invariants.hpp"
 #include "stratum/plasticity/model.hpp"
@@ -99,10 +100,7 @@ struct SqrtJ2 {
   if (!(J2 > 1e-28 * sigma.squaredNorm()) || J2 <= 0.0) return r;
   r.value = std::sqrt(J2);
   const Vec6 a = plasticity::to_strain_like(plasticity::deviator(sigma)); // d J2 / d sigma
-  Mat6 P = Mat6::Zero();                                                  // d2 J2 / d sigma2
-  P.topLeftCorner<3, 3>().setConstant(-1.0 / 3.0);
-  for (int i = 0; i < 3; ++i) P(i, i) += 1.0;
-  for (int i = 3; i < 6; ++i) P(i, i) = 2.0;
+  const Mat6 P = plasticity::deviatoric_projector_strain_like();          // d2 J2 / d sigma2
   r.grad = a / (2.0 * r.value);
   r.hess = P / (2.0 * r.value) - a * a.transpose() / (4.0 * J2 * r.value);
   return r;
@@ -256,6 +254,9 @@ public:
 
   /// history[0]: q = eps_bar_p, the accumulated plastic strain (thesis (2.49)).
   [[nodiscard]] int history_size() const override { return 1; }
+  [[nodiscard]] std::vector<std::string> history_names() const override {
+    return stratum::history_names({{"eps_bar_p", "-"}});
+  }
   [[nodiscard]] bool symmetric_tangent() const override {
     // Non-associated flow breaks symmetry everywhere; hardening breaks it at the apex.
     return p_.psi == p_.phi && p_.H_c == 0.0;

@@ -6,13 +6,17 @@
 // At the Material boundary: tension positive, Voigt xx, yy, zz, xy, yz, zx, engineering shear.
 #pragma once
 
+#include "stratum/elasticity.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
+#include "stratum/stress.hpp"
 
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -33,21 +37,56 @@ struct Set {
          nu = 0;
 };
 
-/// The names of the level-dependent parameters and their members (the order of the schema).
-inline constexpr std::array<std::pair<const char*, double Set::*>, 13> set_members{
-    {{"K", &Set::K},
-     {"n", &Set::n},
-     {"R_f", &Set::R_f},
-     {"phi", &Set::phi},
-     {"c", &Set::c},
-     {"K_ur", &Set::K_ur},
-     {"G", &Set::G},
-     {"F", &Set::F},
-     {"d", &Set::d},
-     {"K_b", &Set::K_b},
-     {"m", &Set::m},
-     {"delta_phi", &Set::delta_phi},
-     {"nu", &Set::nu}}};
+/// Which forms use a level-dependent parameter.
+enum class Needs { all, E_nu, E_B, K_G };
+/// The default of a level-dependent parameter: required, none (an empty list: unused) or 0.
+enum class Fallback { required, none, zero };
+
+/// One level-dependent parameter, declared once: the TOML key, the member of Set it fills, unit,
+/// meaning (thesis equations), the form that needs it, its range and default. The schema, the
+/// reading and the interpolation all walk this table (duncan_chang_schema.hpp).
+struct SetParameter {
+  const char* name;
+  double Set::*member;
+  const char* unit;
+  const char* meaning;
+  Needs needs;
+  double lower, upper;         ///< range; -inf / inf: unbounded
+  bool lower_open, upper_open; ///< (lower, ...) rather than [lower, ...
+  Fallback fallback;
+};
+
+inline constexpr double unbounded = std::numeric_limits<double>::infinity();
+
+/// In the order of the schema; the parameters every form needs come first.
+inline constexpr std::array<SetParameter, 13> set_parameters{{
+    {"K", &Set::K, "-", "modulus number of E_i = K p_a (sigma_3/p_a)^n (2.27)", Needs::all, 0.0, unbounded,
+     true, false, Fallback::required},
+    {"n", &Set::n, "-", "modulus exponent of (2.27) and (2.40)", Needs::all, 0.0, 2.0, false, true,
+     Fallback::required},
+    {"R_f", &Set::R_f, "-", "failure ratio q_f/q_ult (2.25)", Needs::all, 0.0, 1.0, true, false,
+     Fallback::required},
+    {"phi", &Set::phi, "deg", "friction angle phi_i at sigma_3 = p_a (2.28), (2.41)", Needs::all, 0.0, 90.0,
+     false, true, Fallback::required},
+    {"c", &Set::c, "kPa", "cohesion (2.28)", Needs::all, 0.0, unbounded, false, false, Fallback::required},
+    {"K_ur", &Set::K_ur, "-", "unloading-reloading modulus number, E_ur = K_ur p_a (sigma_3/p_a)^n (2.40)",
+     Needs::all, 0.0, unbounded, true, false, Fallback::required},
+    {"G", &Set::G, "-",
+     "initial Poisson ratio at sigma_3 = p_a, nu_i = G - F log10(sigma_3/p_a) (2.33); E_nu form", Needs::E_nu,
+     -unbounded, unbounded, false, false, Fallback::none},
+    {"F", &Set::F, "-", "decrease of nu_i per tenfold sigma_3 (2.33); E_nu form", Needs::E_nu, -unbounded,
+     unbounded, false, false, Fallback::none},
+    {"d", &Set::d, "-", "lateral-strain parameter of (2.32), (2.35); E_nu form", Needs::E_nu, 0.0, unbounded,
+     false, false, Fallback::none},
+    {"K_b", &Set::K_b, "-", "bulk modulus number, B_t = K_b p_a (sigma/p_a)^m (2.36); E_B form", Needs::E_B,
+     0.0, unbounded, true, false, Fallback::none},
+    {"m", &Set::m, "-", "bulk modulus exponent of (2.36); E_B form", Needs::E_B, 0.0, 2.0, false, true,
+     Fallback::none},
+    {"nu", &Set::nu, "-", "constant Poisson ratio: K_t = E_i/(3(1 - 2 nu)), G_t = E_t/(2(1 + nu))",
+     Needs::K_G, -1.0, 0.5, true, true, Fallback::required},
+    {"delta_phi", &Set::delta_phi, "deg", "decrease of phi per tenfold sigma_3 (2.41)", Needs::all,
+     -unbounded, unbounded, false, false, Fallback::zero},
+}};
 
 struct Constants {
   Form form = Form::E_nu;
@@ -80,65 +119,11 @@ struct Constants {
     while (s3 >= levels[i + 1]) ++i;
     const double t = (s3 - levels[i]) / (levels[i + 1] - levels[i]);
     Set s;
-    for (const auto& [name, mem] : set_members) s.*mem = (1.0 - t) * sets[i].*mem + t * sets[i + 1].*mem;
+    for (const auto& sp : set_parameters)
+      s.*sp.member = (1.0 - t) * sets[i].*sp.member + t * sets[i + 1].*sp.member;
     return s;
   }
 };
-
-/// Isotropic stiffness from bulk and shear moduli (engineering shear strains).
-[[nodiscard]] inline Mat6 stiffness_kg(double K, double G) {
-  Mat6 D = Mat6::Zero();
-  D.topLeftCorner<3, 3>().setConstant(K - 2.0 * G / 3.0);
-  for (int i = 0; i < 3; ++i) D(i, i) = K + 4.0 * G / 3.0;
-  for (int i = 3; i < 6; ++i) D(i, i) = G;
-  return D;
-}
-
-[[nodiscard]] inline Eigen::Matrix3d stress_tensor(const Vec6& s) {
-  Eigen::Matrix3d t;
-  t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
-  return t;
-}
-[[nodiscard]] inline Eigen::Matrix3d strain_tensor(const Vec6& e) {
-  Eigen::Matrix3d t;
-  t << e[0], 0.5 * e[3], 0.5 * e[5], 0.5 * e[3], e[1], 0.5 * e[4], 0.5 * e[5], 0.5 * e[4], e[2];
-  return t;
-}
-[[nodiscard]] inline Vec6 stress_voigt(const Eigen::Matrix3d& t) {
-  Vec6 s;
-  s << t(0, 0), t(1, 1), t(2, 2), t(0, 1), t(1, 2), t(0, 2);
-  return s;
-}
-
-/// The compression-positive principal stresses of a tension-positive stress: s1 >= s2 >= s3.
-struct Principal {
-  double s1 = 0, s2 = 0, s3 = 0;
-};
-/// The in-plane principal pair of a 2D state (plane strain, axisymmetry: s_yz = s_zx = 0, so
-/// s_zz is principal): mean m, half-difference h of s_xx and s_yy, Mohr radius r. Closed form,
-/// exact to round-off; the hot spot of the pile scene's profile was the iterative 3x3 solver.
-struct InPlane {
-  double m = 0, h = 0, r = 0;
-};
-[[nodiscard]] inline bool is_2d(const Vec6& s) { return s[4] == 0.0 && s[5] == 0.0; }
-[[nodiscard]] inline InPlane in_plane(const Vec6& s) {
-  const double h = 0.5 * (s[0] - s[1]);
-  return {0.5 * (s[0] + s[1]), h, std::hypot(h, s[3])};
-}
-
-[[nodiscard]] inline Principal principal(const Vec6& sigma) {
-  if (is_2d(sigma)) {
-    const auto [m, h, r] = in_plane(sigma);
-    double a = m - r, b = m + r, c = sigma[2]; // sort ascending (tension positive)
-    if (c < a) std::swap(a, c);
-    if (c < b) std::swap(b, c);
-    if (b < a) std::swap(a, b);
-    return {-a, -b, -c};
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(stress_tensor(sigma), Eigen::EigenvaluesOnly);
-  const auto& v = es.eigenvalues(); // ascending, tension positive
-  return {-v[0], -v[1], -v[2]};
-}
 
 /// Everything the moduli need at one stress.
 struct Point {
@@ -165,6 +150,11 @@ public:
   /// 8, and 10 with keep_decisions: history[8] the branch decision of the step (0 decide afresh,
   /// 1 E_ur, 2 split at the maximum, 3 E_t), history[9] the local error estimate of the update.
   [[nodiscard]] int history_size() const override { return c_.keep_decisions ? 10 : 8; }
+  /// The VTK names of history[0] and [1]: the largest stress level and deviator reached (the
+  /// memory of the unloading criterion); the strain origin and the decision slots are not written.
+  [[nodiscard]] std::vector<std::string> history_names() const override {
+    return stratum::history_names({{"S_max", "-"}, {"q_max", "kPa"}});
+  }
   [[nodiscard]] int decision_slot() const override { return c_.keep_decisions ? 8 : -1; }
   [[nodiscard]] double step_error(std::span<const double> h) const override {
     return c_.keep_decisions && h.size() > 9 ? h[9] : 0.0;
@@ -208,7 +198,7 @@ public:
   /// 0 below failure; 1 at failure (stress level S = q / q_f >= 0.99); 2 tension cut off (the
   /// minor principal stress is not compressive).
   [[nodiscard]] int point_status(const Vec6& stress, std::span<const double> /*history*/) const override {
-    if (principal(stress).s3 <= 0.0) return 2;
+    if (principal_compression(stress).s3 <= 0.0) return 2;
     return point(stress).S >= 0.99 ? 1 : 0;
   }
 
@@ -217,7 +207,7 @@ public:
 
   /// The state quantities of the model at a tension-positive stress.
   [[nodiscard]] Point point(const Vec6& sigma) const {
-    const Principal pr = principal(sigma);
+    const Principal pr = principal_compression(sigma);
     return point_of(pr.s1, pr.s3, (pr.s1 + pr.s2 + pr.s3) / 3.0);
   }
   [[nodiscard]] Point point_of(double s1, double s3, double sm) const {

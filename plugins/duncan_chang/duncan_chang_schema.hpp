@@ -15,10 +15,15 @@ namespace stratum::duncan_chang {
 /// Which factory the schema is for.
 enum class Family { duncan_chang, variable_kg };
 
-inline bool uses(Family fam, const std::string& name) {
-  if (fam == Family::variable_kg)
-    return name != "G" && name != "F" && name != "d" && name != "K_b" && name != "m";
-  return name != "nu";
+/// Whether a level-dependent parameter belongs to a family's schema.
+inline bool uses(Family fam, const SetParameter& sp) {
+  if (fam == Family::variable_kg) return sp.needs == Needs::all || sp.needs == Needs::K_G;
+  return sp.needs != Needs::K_G;
+}
+/// Whether a form needs a level-dependent parameter.
+inline bool needs(Form form, const SetParameter& sp) {
+  return sp.needs == Needs::all || (sp.needs == Needs::E_nu && form == Form::E_nu) ||
+         (sp.needs == Needs::E_B && form == Form::E_B) || (sp.needs == Needs::K_G && form == Form::K_G);
 }
 
 inline void declare(Schema& s, Family fam) {
@@ -49,32 +54,15 @@ inline void declare(Schema& s, Family fam) {
          "unload/reload with E_ur when the stress level F_sr (4.50) or the deviator is below its maximum so "
          "far")
       .defaults_to(std::string("F_sr"));
-  auto num = [&](const char* name, const char* unit, const std::string& meaning) -> ParamSpec& {
-    return s.real_list(name, unit, meaning + list);
-  };
-  const std::vector<double> none;
-  num("K", "-", "modulus number of E_i = K p_a (sigma_3/p_a)^n (2.27)").greater_than(0.0);
-  num("n", "-", "modulus exponent of (2.27) and (2.40)").at_least(0.0).less_than(2.0);
-  num("R_f", "-", "failure ratio q_f/q_ult (2.25)").greater_than(0.0).at_most(1.0);
-  num("phi", "deg", "friction angle phi_i at sigma_3 = p_a (2.28), (2.41)").at_least(0.0).less_than(90.0);
-  num("c", "kPa", "cohesion (2.28)").at_least(0.0);
-  num("K_ur", "-", "unloading-reloading modulus number, E_ur = K_ur p_a (sigma_3/p_a)^n (2.40)")
-      .greater_than(0.0);
-  if (fam == Family::duncan_chang) {
-    num("G", "-", "initial Poisson ratio at sigma_3 = p_a, nu_i = G - F log10(sigma_3/p_a) (2.33); E_nu form")
-        .defaults_to(none);
-    num("F", "-", "decrease of nu_i per tenfold sigma_3 (2.33); E_nu form").defaults_to(none);
-    num("d", "-", "lateral-strain parameter of (2.32), (2.35); E_nu form").at_least(0.0).defaults_to(none);
-    num("K_b", "-", "bulk modulus number, B_t = K_b p_a (sigma/p_a)^m (2.36); E_B form")
-        .greater_than(0.0)
-        .defaults_to(none);
-    num("m", "-", "bulk modulus exponent of (2.36); E_B form").at_least(0.0).less_than(2.0).defaults_to(none);
-  } else {
-    num("nu", "-", "constant Poisson ratio: K_t = E_i/(3(1 - 2 nu)), G_t = E_t/(2(1 + nu))")
-        .greater_than(-1.0)
-        .less_than(0.5);
+  for (const SetParameter& sp : set_parameters) {
+    if (!uses(fam, sp)) continue;
+    ParamSpec& spec = s.real_list(sp.name, sp.unit, sp.meaning + list);
+    if (sp.lower > -unbounded) sp.lower_open ? spec.greater_than(sp.lower) : spec.at_least(sp.lower);
+    if (sp.upper < unbounded) sp.upper_open ? spec.less_than(sp.upper) : spec.at_most(sp.upper);
+    if (sp.fallback == Fallback::none) spec.defaults_to(std::vector<double>{});
+    if (sp.fallback == Fallback::zero) spec.defaults_to(std::vector<double>{0.0});
   }
-  num("delta_phi", "deg", "decrease of phi per tenfold sigma_3 (2.41)").defaults_to(std::vector<double>{0.0});
+  const std::vector<double> none;
   s.real_list("sigma3_levels", "kPa",
               "sigma_3 of the parameter sets, increasing; below the first the first set, above the last "
               "the last, linear interpolation of every parameter in sigma_3 in between")
@@ -155,11 +143,11 @@ inline Constants read(const Params& p, Family fam) {
   c.max_substeps = static_cast<int>(p.integer("max_substeps"));
   c.levels = p.real_list("sigma3_levels");
 
-  // Which parameters this form needs.
-  std::vector<std::string> needed{"K", "n", "R_f", "phi", "c", "K_ur", "delta_phi"};
-  if (c.form == Form::E_nu) needed.insert(needed.end(), {"G", "F", "d"});
-  if (c.form == Form::E_B) needed.insert(needed.end(), {"K_b", "m"});
-  if (c.form == Form::K_G) needed.emplace_back("nu");
+  // Which parameters this form needs: those of every form first, then the form's own.
+  std::vector<std::string> needed;
+  for (const Needs group : {Needs::all, Needs::E_nu, Needs::E_B, Needs::K_G})
+    for (const SetParameter& sp : set_parameters)
+      if (sp.needs == group && needs(c.form, sp)) needed.emplace_back(sp.name);
   std::size_t N = 1;
   std::string longest;
   for (const auto& name : needed) {
@@ -175,14 +163,14 @@ inline Constants read(const Params& p, Family fam) {
       fail(name, name + " has " + std::to_string(v.size()) + " values but " + longest + " has " +
                      std::to_string(N) + "; every list must have one value per sigma3_levels entry");
   }
-  if (c.form != Form::E_nu)
-    for (const char* name : {"G", "F", "d"})
-      if (fam == Family::duncan_chang && !p.real_list(name).empty())
-        fail(name, std::string(name) + " belongs to form = \"E_nu\"; remove it or set form = \"E_nu\"");
-  if (c.form != Form::E_B)
-    for (const char* name : {"K_b", "m"})
-      if (fam == Family::duncan_chang && !p.real_list(name).empty())
-        fail(name, std::string(name) + " belongs to form = \"E_B\"; remove it or set form = \"E_B\"");
+  for (const Needs group : {Needs::E_nu, Needs::E_B})
+    for (const SetParameter& sp : set_parameters)
+      if (sp.needs == group && fam == Family::duncan_chang && !needs(c.form, sp) &&
+          !p.real_list(sp.name).empty()) {
+        const std::string form = group == Needs::E_nu ? "E_nu" : "E_B";
+        fail(sp.name, std::string(sp.name) + " belongs to form = \"" + form +
+                          "\"; remove it or set form = \"" + form + "\"");
+      }
   // A list of one value is a list (README: a number applies to every level, a list gives one
   // value per level): K = [500.0] beside two levels is an error, not a broadcast.
   if (N > 1)
@@ -201,11 +189,11 @@ inline Constants read(const Params& p, Family fam) {
   for (std::size_t i = 1; i < c.levels.size(); ++i)
     if (!(c.levels[i] > c.levels[i - 1])) fail("sigma3_levels", "sigma3_levels must be strictly increasing");
   c.sets.assign(N, Set{});
-  for (const auto& [name, mem] : set_members) {
-    if (!uses(fam, name)) continue;
-    const auto& v = p.real_list(name);
+  for (const SetParameter& sp : set_parameters) {
+    if (!uses(fam, sp)) continue;
+    const auto& v = p.real_list(sp.name);
     if (v.empty()) continue;
-    for (std::size_t i = 0; i < N; ++i) c.sets[i].*mem = v.size() == 1 ? v[0] : v[i];
+    for (std::size_t i = 0; i < N; ++i) c.sets[i].*sp.member = v.size() == 1 ? v[0] : v[i];
   }
   if (c.branch == Branch::step_start && c.update != Update::explicit_step)
     fail("branch", "branch = \"step_start\" belongs to update = \"explicit\" (one step per increment); the "

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "stratum/contact_law.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/params.hpp"
 
 #include <algorithm>
@@ -187,63 +188,93 @@ private:
   Constants c_;
 };
 
-inline Schema schema() {
-  Schema s;
-  s.real("k_s0", "kPa/m", "shear stiffness K_so at zero normal stress (3.53)").greater_than(0.0);
-  s.real("alpha", "kPa/m", "stress-dependent part of the shear stiffness (3.53)")
+/// What the parameters fill: the constants, and the angles in degrees with the point-A values as
+/// written (create() derives the tangents and the point-A defaults).
+struct Input {
+  Constants c;
+  double phi_peak = 0.0, phi_residual = 0.0, c_A = -1.0, phi_A = -1.0;
+};
+
+/// The parameters, each declared once and bound to its member.
+inline Declared<Input> declaration() {
+  using C = Constants;
+  Declared<Input> d;
+  d.real(nested(&Input::c, &C::k_s0), "k_s0", "kPa/m", "shear stiffness K_so at zero normal stress (3.53)")
+      .greater_than(0.0);
+  d.real(nested(&Input::c, &C::alpha), "alpha", "kPa/m",
+         "stress-dependent part of the shear stiffness (3.53)")
       .at_least(0.0)
       .defaults_to(0.0);
-  s.real("m", "-", "exponent of sigma_n/p_a in the shear stiffness (3.53)").at_least(0.0).defaults_to(1.0);
-  s.real("p_a", "kPa", "atmospheric pressure").greater_than(0.0).defaults_to(100.0);
-  s.real("c_peak", "kPa", "peak adhesion c_p (3.54)").at_least(0.0).defaults_to(0.0);
-  s.real("phi_peak", "deg", "peak friction angle phi_p (3.54)").at_least(0.0).less_than(90.0);
-  s.real("c_residual", "kPa", "residual adhesion c_r").at_least(0.0).defaults_to(0.0);
-  s.real("phi_residual", "deg", "residual friction angle phi_r").at_least(0.0).less_than(90.0);
-  s.real("c_A", "kPa", "adhesion of point A (3.55); -1: 0.7 c_peak").at_least(-1.0).defaults_to(-1.0);
-  s.real("phi_A", "deg", "friction angle of point A (3.55); -1: tan phi_A = 0.7 tan phi_peak")
+  d.real(nested(&Input::c, &C::m), "m", "-", "exponent of sigma_n/p_a in the shear stiffness (3.53)")
+      .at_least(0.0)
+      .defaults_to(1.0);
+  d.real(nested(&Input::c, &C::p_a), "p_a", "kPa", "atmospheric pressure")
+      .greater_than(0.0)
+      .defaults_to(100.0);
+  d.real(nested(&Input::c, &C::c_peak), "c_peak", "kPa", "peak adhesion c_p (3.54)")
+      .at_least(0.0)
+      .defaults_to(0.0);
+  d.real(&Input::phi_peak, "phi_peak", "deg", "peak friction angle phi_p (3.54)")
+      .at_least(0.0)
+      .less_than(90.0);
+  d.real(nested(&Input::c, &C::c_res), "c_residual", "kPa", "residual adhesion c_r")
+      .at_least(0.0)
+      .defaults_to(0.0);
+  d.real(&Input::phi_residual, "phi_residual", "deg", "residual friction angle phi_r")
+      .at_least(0.0)
+      .less_than(90.0);
+  d.real(&Input::c_A, "c_A", "kPa", "adhesion of point A (3.55); -1: 0.7 c_peak")
+      .at_least(-1.0)
+      .defaults_to(-1.0);
+  d.real(&Input::phi_A, "phi_A", "deg", "friction angle of point A (3.55); -1: tan phi_A = 0.7 tan phi_peak")
       .at_least(-1.0)
       .less_than(90.0)
       .defaults_to(-1.0);
-  s.real("k_s2_ratio", "-", "K_s2 / K_s1: virgin branch A-B").greater_than(0.0).defaults_to(0.5);
-  s.real("k_s3_ratio", "-", "K_s3 / K_s1: elastic stiffness after the peak")
+  d.real(nested(&Input::c, &C::r2), "k_s2_ratio", "-", "K_s2 / K_s1: virgin branch A-B")
+      .greater_than(0.0)
+      .defaults_to(0.5);
+  d.real(nested(&Input::c, &C::r3), "k_s3_ratio", "-", "K_s3 / K_s1: elastic stiffness after the peak")
       .greater_than(0.0)
       .defaults_to(1.0);
-  s.real("k_s4_ratio", "-", "K_s4 / K_s1: unload/reload below Q_max").greater_than(0.0).defaults_to(1.0);
-  s.real("k_n", "kPa/m", "normal stiffness in contact (large: no normal deformability)")
+  d.real(nested(&Input::c, &C::r4), "k_s4_ratio", "-", "K_s4 / K_s1: unload/reload below Q_max")
+      .greater_than(0.0)
+      .defaults_to(1.0);
+  d.real(nested(&Input::c, &C::k_n), "k_n", "kPa/m",
+         "normal stiffness in contact (large: no normal deformability)")
       .greater_than(0.0)
       .defaults_to(1e6);
-  s.real("sigma_t", "kPa", "tensile strength sigma_T; 0: no tension").at_least(0.0).defaults_to(0.0);
-  s.real("gap", "m", "initial gap delta_v: contact starts after this closure").at_least(0.0).defaults_to(0.0);
-  return s;
+  d.real(nested(&Input::c, &C::sigma_t), "sigma_t", "kPa", "tensile strength sigma_T; 0: no tension")
+      .at_least(0.0)
+      .defaults_to(0.0);
+  d.real(nested(&Input::c, &C::gap), "gap", "m", "initial gap delta_v: contact starts after this closure")
+      .at_least(0.0)
+      .defaults_to(0.0);
+  return d;
+}
+
+inline Schema schema() { return declaration().schema(); }
+
+/// The constants of validated parameters: tangents of the angles, point A's defaults, and the checks
+/// on them.
+inline Constants constants(const Params& p) {
+  constexpr double deg = std::numbers::pi / 180.0;
+  const Input in = declaration().read(p);
+  Constants c = in.c;
+  c.tan_peak = std::tan(in.phi_peak * deg);
+  c.tan_res = std::tan(in.phi_residual * deg);
+  c.c_A = in.c_A < 0.0 ? 0.7 * c.c_peak : in.c_A;
+  c.tan_A = in.phi_A < 0.0 ? 0.7 * c.tan_peak : std::tan(in.phi_A * deg);
+  if (c.c_res > c.c_peak || c.tan_res > c.tan_peak)
+    fail(p, {"phi_residual",
+             "the residual strength (c_residual, phi_residual) exceeds the peak (c_peak, phi_peak); "
+             "allowed: residual <= peak"});
+  if (c.c_A > c.c_peak || c.tan_A > c.tan_peak)
+    fail(p, {"phi_A", "point A (c_A, phi_A) lies above the peak; allowed: A <= peak"});
+  return c;
 }
 
 inline std::unique_ptr<ContactLaw> create(const Params& p) {
-  constexpr double deg = std::numbers::pi / 180.0;
-  Constants c;
-  c.k_s0 = p.real("k_s0");
-  c.alpha = p.real("alpha");
-  c.m = p.real("m");
-  c.p_a = p.real("p_a");
-  c.c_peak = p.real("c_peak");
-  c.tan_peak = std::tan(p.real("phi_peak") * deg);
-  c.c_res = p.real("c_residual");
-  c.tan_res = std::tan(p.real("phi_residual") * deg);
-  c.c_A = p.real("c_A") < 0.0 ? 0.7 * c.c_peak : p.real("c_A");
-  c.tan_A = p.real("phi_A") < 0.0 ? 0.7 * c.tan_peak : std::tan(p.real("phi_A") * deg);
-  c.r2 = p.real("k_s2_ratio");
-  c.r3 = p.real("k_s3_ratio");
-  c.r4 = p.real("k_s4_ratio");
-  c.k_n = p.real("k_n");
-  c.sigma_t = p.real("sigma_t");
-  c.gap = p.real("gap");
-  const std::string ctx = p.context.empty() ? std::string() : p.context + " ";
-  if (c.c_res > c.c_peak || c.tan_res > c.tan_peak)
-    throw Error(p.where("phi_residual"),
-                ctx + "the residual strength (c_residual, phi_residual) exceeds the peak "
-                      "(c_peak, phi_peak); allowed: residual <= peak");
-  if (c.c_A > c.c_peak || c.tan_A > c.tan_peak)
-    throw Error(p.where("phi_A"), ctx + "point A (c_A, phi_A) lies above the peak; allowed: A <= peak");
-  return std::make_unique<GoodmanNonlinear>(c);
+  return std::make_unique<GoodmanNonlinear>(constants(p));
 }
 
 } // namespace stratum::goodman

@@ -22,6 +22,8 @@
 #include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
+#include "stratum/stress.hpp"
 #include "stratum/voigt.hpp"
 
 #include <Eigen/Core>
@@ -534,51 +536,10 @@ private:
 // ------------------------------------------------------------------------------------------
 // Spectral helpers.
 
-[[nodiscard]] inline Mat3 to_tensor(const Vec6& v) {
-  Mat3 t;
-  t << v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2];
-  return t;
-}
-[[nodiscard]] inline Vec6 to_voigt(const Mat3& t) {
-  Vec6 v;
-  v << t(0, 0), t(1, 1), t(2, 2), t(0, 1), t(1, 2), t(2, 0);
-  return v;
-}
-
 /// The minor principal compression sigma_3 (compression positive) of a tension-positive stress.
 [[nodiscard]] inline double sigma3(const Vec6& sigma) {
-  const Eigen::SelfAdjointEigenSolver<Mat3> es(to_tensor(sigma), Eigen::EigenvaluesOnly);
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(stress_tensor(sigma), Eigen::EigenvaluesOnly);
   return -es.eigenvalues()[2];
-}
-
-/// d sigma / d sigma_trial of an isotropic tensor function from its principal Jacobian
-/// (principal values lam of the trial with eigenvectors V, returned principal values sig).
-[[nodiscard]] inline Mat6 spectral_tangent(const Vec3& lam, const Mat3& V, const Vec3& sig, const Mat3& jac) {
-  Mat6 out;
-  const double tie = 1e-9 * std::max(lam.cwiseAbs().maxCoeff(), 1e-12);
-  Mat3 coef = Mat3::Zero();
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) {
-      if (i == k) continue;
-      const double d = lam[i] - lam[k];
-      coef(i, k) = std::abs(d) > tie ? (sig[i] - sig[k]) / d : jac(i, i) - jac(i, k);
-    }
-  for (int j = 0; j < 6; ++j) {
-    Mat3 E = Mat3::Zero();
-    if (j < 3) {
-      E(j, j) = 1.0;
-    } else {
-      const int a = j == 3 ? 0 : (j == 4 ? 1 : 2), b = j == 3 ? 1 : (j == 4 ? 2 : 0);
-      E(a, b) = E(b, a) = 1.0;
-    }
-    const Mat3 W = V.transpose() * E * V;
-    const Vec3 dsp = jac * W.diagonal();
-    Mat3 dS = dsp.asDiagonal();
-    for (int i = 0; i < 3; ++i)
-      for (int k = i + 1; k < 3; ++k) dS(i, k) = dS(k, i) = 0.5 * (coef(i, k) + coef(k, i)) * W(i, k);
-    out.col(j) = to_voigt(V * dS * V.transpose());
-  }
-  return out;
 }
 
 // ------------------------------------------------------------------------------------------
@@ -699,11 +660,16 @@ public:
   [[nodiscard]] int history_size() const override {
     return core_.params().small_strain ? slot::size_small_strain : slot::size_standard;
   }
+  /// The VTK names of the shear hardening parameter gamma_p, the cap pressure p_p and the
+  /// regime code of point_status (the small-strain memory is not written).
+  [[nodiscard]] std::vector<std::string> history_names() const override {
+    return stratum::history_names({{"gamma_p", "-"}, {"p_p", "kPa"}, {"status", "-"}});
+  }
   [[nodiscard]] bool symmetric_tangent() const override { return false; }
 
   void init_history(const Vec6& stress, std::span<double> h) const override {
     for (double& v : h) v = 0.0;
-    const Eigen::SelfAdjointEigenSolver<Mat3> es(to_tensor(stress), Eigen::EigenvaluesOnly);
+    const Eigen::SelfAdjointEigenSolver<Mat3> es(stress_tensor(stress), Eigen::EigenvaluesOnly);
     const Vec3 s = -es.eigenvalues();
     const double g = core_.gamma_on_surface(s);
     h[slot::gamma_p] = std::max(0.0, g < 1e299 ? g : 0.0);
@@ -762,22 +728,13 @@ public:
     for (int i = 0; i < 3; ++i) s[i] = K * ev + 2.0 * Gs * ad[i];
     for (int i = 3; i < 6; ++i) s[i] = 2.0 * Gs * ad[i];
     if (tangent) {
-      *tangent = isotropic_stiffness_KG(K, Gs);
+      *tangent = stiffness_kg(K, Gs);
       if (gam > 0.0) *tangent += (4.0 * dGs / gam) * ad * ad.transpose(); // d gamma/d a = 2 ad/gamma
     }
     return s;
   }
 
   [[nodiscard]] const Core& core() const { return core_; }
-
-  /// Isotropic stiffness from bulk and shear modulus (Voigt, engineering shear).
-  [[nodiscard]] static Mat6 isotropic_stiffness_KG(double K, double G) {
-    Mat6 D = Mat6::Zero();
-    D.topLeftCorner<3, 3>().setConstant(K - 2.0 * G / 3.0);
-    for (int i = 0; i < 3; ++i) D(i, i) += 2.0 * G;
-    for (int i = 3; i < 6; ++i) D(i, i) = G;
-    return D;
-  }
 
 private:
   void reset_reversal(const Vec6& stress, std::span<double> h) const {
@@ -817,7 +774,7 @@ private:
       bool ok = true;
       for (int k = 0; k < n && ok; ++k) {
         const Vec6 tr = s + dtrial / n;
-        const Eigen::SelfAdjointEigenSolver<Mat3> es(to_tensor(tr));
+        const Eigen::SelfAdjointEigenSolver<Mat3> es(stress_tensor(tr));
         const Vec3 lam = es.eigenvalues();
         const Mat3 V = es.eigenvectors();
         const ReturnResult r = ret_(-lam, q, Dp);
@@ -832,8 +789,10 @@ private:
           T += Dtr / n;
         } else {
           const Vec3 sig = -r.s;
-          s = to_voigt(V * sig.asDiagonal() * V.transpose());
-          if (in.want_tangent) T = spectral_tangent(lam, V, sig, r.jacobian) * (T + Dtr / n);
+          s = stress_voigt(V * sig.asDiagonal() * V.transpose());
+          if (in.want_tangent)
+            T = spectral_tangent(lam, V, sig, r.jacobian, 1e-9 * std::max(lam.cwiseAbs().maxCoeff(), 1e-12)) *
+                (T + Dtr / n);
         }
         if (k + 1 == n) active = r.active;
       }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "stratum/contact_law.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/params.hpp"
 
 #include <algorithm>
@@ -96,32 +97,45 @@ private:
   Constants c_;
 };
 
-inline Schema schema() {
-  Schema s;
-  s.real("K_I", "-", "stiffness number of the initial shear stiffness K_I gamma_w (p/p_a)^n (3.65)")
+/// What the parameters fill: the constants and the friction angle in degrees.
+struct Input {
+  Constants c;
+  double delta = 0.0;
+};
+
+/// The parameters, each declared once and bound to its member.
+inline Declared<Input> declaration() {
+  using C = Constants;
+  Declared<Input> d;
+  d.real(nested(&Input::c, &C::K_I), "K_I", "-",
+         "stiffness number of the initial shear stiffness K_I gamma_w (p/p_a)^n (3.65)")
       .greater_than(0.0);
-  s.real("n", "-", "stiffness exponent (3.65)").at_least(0.0).defaults_to(0.5);
-  s.real("R_f", "-", "failure ratio tau_f / tau_ult (3.65)").greater_than(0.0).at_most(1.0).defaults_to(0.9);
-  s.real("c_a", "kPa", "adhesion").at_least(0.0).defaults_to(0.0);
-  s.real("delta", "deg", "interface friction angle").at_least(0.0).less_than(90.0);
-  s.real("gamma_w", "kN/m3", "unit weight of water (makes K_I gamma_w a stiffness per length)")
+  d.real(nested(&Input::c, &C::n), "n", "-", "stiffness exponent (3.65)").at_least(0.0).defaults_to(0.5);
+  d.real(nested(&Input::c, &C::R_f), "R_f", "-", "failure ratio tau_f / tau_ult (3.65)")
+      .greater_than(0.0)
+      .at_most(1.0)
+      .defaults_to(0.9);
+  d.real(nested(&Input::c, &C::c_a), "c_a", "kPa", "adhesion").at_least(0.0).defaults_to(0.0);
+  d.real(&Input::delta, "delta", "deg", "interface friction angle").at_least(0.0).less_than(90.0);
+  d.real(nested(&Input::c, &C::gamma_w), "gamma_w", "kN/m3",
+         "unit weight of water (makes K_I gamma_w a stiffness per length)")
       .greater_than(0.0)
       .defaults_to(9.81);
-  s.real("p_a", "kPa", "atmospheric pressure").greater_than(0.0).defaults_to(100.0);
-  s.real("k_n", "kPa/m", "normal stiffness in compression").greater_than(0.0).defaults_to(1e6);
-  return s;
+  d.real(nested(&Input::c, &C::p_a), "p_a", "kPa", "atmospheric pressure")
+      .greater_than(0.0)
+      .defaults_to(100.0);
+  d.real(nested(&Input::c, &C::k_n), "k_n", "kPa/m", "normal stiffness in compression")
+      .greater_than(0.0)
+      .defaults_to(1e6);
+  return d;
 }
 
+inline Schema schema() { return declaration().schema(); }
+
 inline std::unique_ptr<ContactLaw> create(const Params& p) {
-  Constants c;
-  c.K_I = p.real("K_I");
-  c.n = p.real("n");
-  c.R_f = p.real("R_f");
-  c.c_a = p.real("c_a");
-  c.tan_delta = std::tan(p.real("delta") * std::numbers::pi / 180.0);
-  c.gamma_w = p.real("gamma_w");
-  c.p_a = p.real("p_a");
-  c.k_n = p.real("k_n");
+  const Input in = declaration().read(p);
+  Constants c = in.c;
+  c.tan_delta = std::tan(in.delta * std::numbers::pi / 180.0);
   return std::make_unique<HyperbolicInterface>(c);
 }
 

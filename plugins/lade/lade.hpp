@@ -30,8 +30,11 @@
 // [2] active set of the last increment (0 elastic, 1 cone, 2 cap, 3 both), [3] substeps used.
 #pragma once
 
+#include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
+#include "stratum/stress.hpp"
 #include "stratum/voigt.hpp"
 
 #include <Eigen/Core>
@@ -67,17 +70,6 @@ struct Constants {
   double s3_min = 1.0; ///< floor on s3 in the stress-dependent quantities (kPa)
   int substeps = 1;    ///< minimum number of equal substeps per update (doubled while Newton fails)
 };
-
-struct Problem {
-  std::string parameter;
-  std::string message;
-};
-
-[[nodiscard]] inline std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 
 /// Checks what the schema ranges cannot.
 [[nodiscard]] inline std::optional<Problem> check(const Constants& c) {
@@ -142,9 +134,8 @@ using Mat10x6 = Eigen::Matrix<double, 10, 6>;
 }
 /// Minor principal stress (compression positive: the smallest eigenvalue).
 [[nodiscard]] inline double sigma3(const Vec6& s) {
-  Eigen::Matrix3d T;
-  T << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
-  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(T, Eigen::EigenvaluesOnly).eigenvalues()[0];
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(stress_tensor(s), Eigen::EigenvaluesOnly)
+      .eigenvalues()[0];
 }
 
 /// A scalar function of (I1, I3) with its partial derivatives up to second order.
@@ -192,6 +183,10 @@ public:
   [[nodiscard]] const Constants& constants() const { return c_; }
 
   [[nodiscard]] int history_size() const override { return 4; }
+  /// The VTK names of the plastic work of the cone (W1) and of the cap (W2).
+  [[nodiscard]] std::vector<std::string> history_names() const override {
+    return stratum::history_names({{"W_cone", "kPa"}, {"W_cap", "kPa"}});
+  }
   [[nodiscard]] bool symmetric_tangent() const override { return false; }
 
   /// Elastic stiffness, q, W_peak, a, b and eta2 at the compression-positive stress s.
@@ -200,10 +195,7 @@ public:
     const double s3 = std::max(sigma3(s), c_.s3_min), r = s3 / c_.pa;
     const double E = c_.Kur * c_.pa * std::pow(r, c_.n);
     const double K = E / (3.0 * (1.0 - 2.0 * c_.nu)), G = E / (2.0 * (1.0 + c_.nu));
-    z.D = Mat6::Zero();
-    z.D.topLeftCorner<3, 3>().setConstant(K - 2.0 * G / 3.0);
-    for (int i = 0; i < 3; ++i) z.D(i, i) += 2.0 * G;
-    for (int i = 3; i < 6; ++i) z.D(i, i) = G;
+    z.D = stiffness_kg(K, G);
     z.q = c_.alpha + c_.beta * r;
     z.Wpeak = c_.P * c_.pa * std::pow(r, c_.l);
     z.b = 1.0 / (z.q * z.Wpeak);

@@ -10,6 +10,7 @@
 #include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/voigt.hpp"
 
 #include <Eigen/Cholesky>
@@ -56,33 +57,22 @@ struct CrossAnisotropic {
   return S;
 }
 
-/// What makes a parameter set inadmissible: the parameter to blame and why.
-struct Problem {
-  std::string parameter;
-  std::string message;
-};
-
 /// Checks that the cross-anisotropic stiffness is positive definite:
 ///   Eh > 0, Ev > 0, Gvh > 0, -1 < nu_hh < 1 and 1 - nu_hh - 2 nu_vh^2 Eh / Ev > 0.
 [[nodiscard]] inline std::optional<Problem> check(const CrossAnisotropic& c) {
-  auto num = [](double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return std::string(buf);
-  };
-  if (!(c.Eh > 0.0)) return Problem{"E", "the horizontal modulus E = " + num(c.Eh) + " must be positive"};
-  if (!(c.Ev > 0.0)) return Problem{"Ev", "the vertical modulus Ev = " + num(c.Ev) + " must be positive"};
-  if (!(c.Gvh > 0.0)) return Problem{"Gvh", "the shear modulus Gvh = " + num(c.Gvh) + " must be positive"};
+  if (!(c.Eh > 0.0)) return Problem{"E", "the horizontal modulus E = " + number(c.Eh) + " must be positive"};
+  if (!(c.Ev > 0.0)) return Problem{"Ev", "the vertical modulus Ev = " + number(c.Ev) + " must be positive"};
+  if (!(c.Gvh > 0.0)) return Problem{"Gvh", "the shear modulus Gvh = " + number(c.Gvh) + " must be positive"};
   if (!(c.nu_hh > -1.0 && c.nu_hh < 1.0))
     return Problem{"nu",
-                   "nu (nu_hh) = " + num(c.nu_hh) + " must lie in (-1, 1) for a cross-anisotropic solid"};
+                   "nu (nu_hh) = " + number(c.nu_hh) + " must lie in (-1, 1) for a cross-anisotropic solid"};
   const double m = 1.0 - c.nu_hh - 2.0 * c.nu_vh * c.nu_vh * c.Eh / c.Ev;
   if (!(m > 0.0)) {
     const double limit = std::sqrt(std::max(0.0, (1.0 - c.nu_hh) * c.Ev / (2.0 * c.Eh)));
     return Problem{
         "nu_vh",
-        "the cross-anisotropic stiffness is not positive definite: 1 - nu - 2 nu_vh^2 E/Ev = " + num(m) +
-            " must be > 0, i.e. |nu_vh| < " + num(limit) + " (nu_vh = " + num(c.nu_vh) + ")"};
+        "the cross-anisotropic stiffness is not positive definite: 1 - nu - 2 nu_vh^2 E/Ev = " + number(m) +
+            " must be > 0, i.e. |nu_vh| < " + number(limit) + " (nu_vh = " + number(c.nu_vh) + ")"};
   }
   return std::nullopt;
 }

@@ -20,9 +20,11 @@
 #include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/plasticity/integrate.hpp"
 #include "stratum/plasticity/invariants.hpp"
 #include "stratum/plasticity/model.hpp"
+#include "stratum/stress.hpp"
 #include "stratum/voigt.hpp"
 
 #include <Eigen/Core>
@@ -64,15 +66,6 @@ struct Parameters {
   return stratum::isotropic_stiffness(E, nu);
 }
 
-/// Isotropic elastic compliance, the inverse of elastic_stiffness.
-[[nodiscard]] inline Mat6 elastic_compliance(double E, double nu) {
-  Mat6 S = Mat6::Zero();
-  S.topLeftCorner<3, 3>().setConstant(-nu / E);
-  for (int i = 0; i < 3; ++i) S(i, i) = 1.0 / E;
-  for (int i = 3; i < 6; ++i) S(i, i) = 2.0 * (1.0 + nu) / E;
-  return S;
-}
-
 /// Apex of the Mohr-Coulomb pyramid (and of the rounded cone): sigma_m = c cot(phi); +infinity
 /// for phi = 0 (Tresca: a prism, no apex).
 [[nodiscard]] inline double apex(const Parameters& p) {
@@ -106,8 +99,7 @@ struct InvariantDerivatives {
 /// (d = M sigma, M the deviatoric projector in Voigt form) and chained through M.
 [[nodiscard]] inline InvariantDerivatives invariant_derivatives(const Vec6& sigma) {
   const Vec6 d = plasticity::deviator(sigma);
-  Mat6 M = Mat6::Identity();
-  M.topLeftCorner<3, 3>().array() -= 1.0 / 3.0;
+  const Mat6 M = plasticity::deviatoric_projector();
 
   InvariantDerivatives r;
   r.J2 = 0.5 * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + d[3] * d[3] + d[4] * d[4] + d[5] * d[5];
@@ -416,18 +408,6 @@ private:
   double strength_ = 1.0;
 };
 
-/// Symmetric 3 x 3 tensor of a stress-like Voigt vector, and back.
-[[nodiscard]] inline Mat3 to_tensor(const Vec6& v) {
-  Mat3 t;
-  t << v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2];
-  return t;
-}
-[[nodiscard]] inline Vec6 to_voigt(const Mat3& t) {
-  Vec6 v;
-  v << t(0, 0), t(1, 1), t(2, 2), t(0, 1), t(1, 2), t(2, 0);
-  return v;
-}
-
 /// Result of the exact return in general stress space.
 struct ExactResult {
   Vec6 sigma = Vec6::Zero();
@@ -444,7 +424,7 @@ struct ExactResult {
 /// trial values.
 [[nodiscard]] inline ExactResult exact_return(const ExactReturn& ret, const Vec6& trial) {
   ExactResult out;
-  const Eigen::SelfAdjointEigenSolver<Mat3> es(to_tensor(trial));
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(stress_tensor(trial));
   const Vec3 lam = es.eigenvalues();
   const Mat3 V = es.eigenvectors();
   const PrincipalReturn pr = ret(lam);
@@ -459,33 +439,9 @@ struct ExactResult {
     out.dsigma_dtrial.setIdentity();
     return out;
   }
-  out.sigma = to_voigt(V * pr.sigma.asDiagonal() * V.transpose());
+  out.sigma = stress_voigt(V * pr.sigma.asDiagonal() * V.transpose());
 
-  const double tie = 1e-9 * ret.scale(lam);
-  Mat3 coef = Mat3::Zero();
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) {
-      if (i == k) continue;
-      const double d = lam[i] - lam[k];
-      coef(i, k) =
-          std::abs(d) > tie ? (pr.sigma[i] - pr.sigma[k]) / d : pr.jacobian(i, i) - pr.jacobian(i, k);
-    }
-  for (int j = 0; j < 6; ++j) {
-    Mat3 E = Mat3::Zero();
-    if (j < 3) {
-      E(j, j) = 1.0;
-    } else {
-      const int a = j == 3 ? 0 : (j == 4 ? 1 : 2), b = j == 3 ? 1 : (j == 4 ? 2 : 0);
-      E(a, b) = E(b, a) = 1.0;
-    }
-    const Mat3 W = V.transpose() * E * V; // components in the principal frame
-    const Vec3 dsp = pr.jacobian * W.diagonal();
-    Mat3 dS_principal = dsp.asDiagonal();
-    for (int i = 0; i < 3; ++i)
-      for (int k = i + 1; k < 3; ++k)
-        dS_principal(i, k) = dS_principal(k, i) = 0.5 * (coef(i, k) + coef(k, i)) * W(i, k);
-    out.dsigma_dtrial.col(j) = to_voigt(V * dS_principal * V.transpose());
-  }
+  out.dsigma_dtrial = spectral_tangent(lam, V, pr.sigma, pr.jacobian, 1e-9 * ret.scale(lam));
   return out;
 }
 
@@ -496,11 +452,14 @@ class MohrCoulomb final : public Material {
 public:
   /// The parameters must be valid (the factory checks them); settings apply to the rounded form.
   MohrCoulomb(const Parameters& p, const plasticity::Settings& settings)
-      : p_(p), settings_(settings), D_(elastic_stiffness(p.E, p.nu)), S_(elastic_compliance(p.E, p.nu)),
+      : p_(p), settings_(settings), D_(elastic_stiffness(p.E, p.nu)), S_(isotropic_compliance(p.E, p.nu)),
         rounded_(p), exact_(p), G_(p.E / (2.0 * (1.0 + p.nu))), K_(p.E / (3.0 * (1.0 - 2.0 * p.nu))) {}
 
   /// history[0]: accumulated plastic strain (thesis (2.49)), for output.
   [[nodiscard]] int history_size() const override { return 1; }
+  [[nodiscard]] std::vector<std::string> history_names() const override {
+    return stratum::history_names({{"eps_bar_p", "-"}});
+  }
   [[nodiscard]] bool symmetric_tangent() const override {
     // Both forms give a symmetric tangent for associated flow (the apex tangent is zero);
     // non-associated flow makes it non-symmetric.

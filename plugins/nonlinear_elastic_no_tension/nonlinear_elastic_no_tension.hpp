@@ -6,7 +6,9 @@
 //   after every substep, principal stresses above the tensile strength T are set to T.
 #pragma once
 
+#include "stratum/elasticity.hpp"
 #include "stratum/material.hpp"
+#include "stratum/stress.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -34,24 +36,16 @@ public:
     const double p = std::max(-(s[0] + s[1] + s[2]) / 3.0, c_.p_min);
     const double K = c_.A * c_.p_a * std::pow(p / c_.p_a, c_.n);
     const double G = c_.B * c_.p_a * std::pow(p / c_.p_a, c_.m);
-    Mat6 D = Mat6::Zero();
-    D.topLeftCorner<3, 3>().setConstant(K - 2.0 * G / 3.0);
-    for (int i = 0; i < 3; ++i) D(i, i) = K + 4.0 * G / 3.0;
-    for (int i = 3; i < 6; ++i) D(i, i) = G;
-    return D;
+    return stiffness_kg(K, G);
   }
 
   /// Principal stresses above T are set to T (principal directions kept).
   [[nodiscard]] Vec6 cut(const Vec6& s) const {
-    Eigen::Matrix3d t;
-    t << s[0], s[3], s[5], s[3], s[1], s[4], s[5], s[4], s[2];
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(t);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(stress_tensor(s));
     if (es.eigenvalues()[2] <= c_.tensile_strength) return s;
     Eigen::Vector3d v = es.eigenvalues().cwiseMin(c_.tensile_strength);
     const Eigen::Matrix3d r = es.eigenvectors() * v.asDiagonal() * es.eigenvectors().transpose();
-    Vec6 o;
-    o << r(0, 0), r(1, 1), r(2, 2), r(0, 1), r(1, 2), r(0, 2);
-    return o;
+    return stress_voigt(r);
   }
 
   /// Heun substeps (explicit trapezoidal rule) with the cut-off after each; `substeps` <= 0: choose.

@@ -6,6 +6,7 @@
 
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/voigt.hpp"
 
 #include <algorithm>
@@ -135,6 +136,10 @@ public:
   explicit ThinLayerHyperbolic(const Constants& c) : c_(c) {}
 
   [[nodiscard]] int history_size() const override { return 2; }
+  /// The VTK names of the history: the largest stress level reached and the failure flag.
+  [[nodiscard]] std::vector<std::string> history_names() const override {
+    return stratum::history_names({{"S_max", "-"}, {"failed", "-"}});
+  }
   /// history[0]: largest stress level |tau| / tau_f reached; history[1]: 1 at failure, else 0.
   void init_history(const Vec6& stress, std::span<double> h) const override {
     const double sn = -stress[c_.normal()];

@@ -10,6 +10,7 @@
 #include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
+#include "stratum/parameters.hpp"
 #include "stratum/params.hpp"
 #include "stratum/plasticity/integrate.hpp"
 #include "stratum/plasticity/invariants.hpp"
@@ -88,11 +89,7 @@ public:
     const double qe = plasticity::q_mises(sigma);
     if (!(qe > 0.0)) return Mat6::Zero();
     const Vec6 n = plasticity::to_strain_like(plasticity::deviator(sigma)) * (1.5 / qe);
-    Mat6 MP = Mat6::Zero();
-    MP.topLeftCorner<3, 3>().setConstant(-1.0 / 3.0);
-    for (int i = 0; i < 3; ++i) MP(i, i) += 1.0;
-    for (int i = 3; i < 6; ++i) MP(i, i) = 2.0;
-    return (1.5 / qe) * MP - (n * n.transpose()) / qe;
+    return (1.5 / qe) * plasticity::deviatoric_projector_strain_like() - (n * n.transpose()) / qe;
   }
 
   [[nodiscard]] MatX flow_gradient_q(int, const Vec6&, std::span<const double>) const override {
@@ -127,6 +124,9 @@ public:
   VonMisesMaterial(const Constants& c, const plasticity::Settings& s) : model_(c), settings_(s) {}
 
   [[nodiscard]] int history_size() const override { return 1; }
+  [[nodiscard]] std::vector<std::string> history_names() const override {
+    return stratum::history_names({{"eps_bar_p", "-"}});
+  }
   [[nodiscard]] bool symmetric_tangent() const override { return true; } // associated flow
   [[nodiscard]] const VonMisesModel& model() const { return model_; }
   [[nodiscard]] const plasticity::Settings& settings() const { return settings_; }
@@ -147,27 +147,28 @@ private:
   plasticity::Settings settings_;
 };
 
-/// The parameter schema of the "von_mises" material.
-[[nodiscard]] inline Schema schema() {
-  Schema s;
-  stratum::add_isotropic_elastic_parameters(s);
-  s.real("sigma_y", "kPa", "initial uniaxial yield stress (sqrt(3) times the shear strength)")
+/// The parameters of the "von_mises" material, each declared once and bound to its member of
+/// Constants: TOML -> schema check -> Constants -> strength().
+[[nodiscard]] inline Declared<Constants> declaration() {
+  Declared<Constants> d;
+  declare_isotropic_elastic(d, &Constants::E, &Constants::nu);
+  d.real(&Constants::sigma_y, "sigma_y", "kPa",
+         "initial uniaxial yield stress (sqrt(3) times the shear strength)")
       .greater_than(0.0);
-  s.real("H", "kPa", "linear isotropic hardening modulus d sigma_y / d eps_bar_p (0: perfectly plastic)")
+  d.real(&Constants::H, "H", "kPa",
+         "linear isotropic hardening modulus d sigma_y / d eps_bar_p (0: perfectly plastic)")
       .at_least(0.0)
       .defaults_to(0.0);
-  plasticity::add_integrator_parameters(s, plasticity::Scheme::closest_point);
-  return s;
+  plasticity::add_integrator_parameters(d.schema(), plasticity::Scheme::closest_point);
+  return d;
 }
+
+/// The parameter schema of the "von_mises" material.
+[[nodiscard]] inline Schema schema() { return declaration().schema(); }
 
 /// The material from validated parameters.
 [[nodiscard]] inline std::unique_ptr<Material> create(const Params& p) {
-  Constants c;
-  c.E = p.real("E");
-  c.nu = p.real("nu");
-  c.sigma_y = p.real("sigma_y");
-  c.H = p.real("H");
-  return std::make_unique<VonMisesMaterial>(c, plasticity::read_integrator_parameters(p));
+  return std::make_unique<VonMisesMaterial>(declaration().read(p), plasticity::read_integrator_parameters(p));
 }
 
 } // namespace stratum::von_mises

@@ -4,26 +4,19 @@
 // Equations: README.md in this folder.
 #pragma once
 
+#include <stratum/elasticity.hpp>
 #include <stratum/material.hpp>
 
 #include <string>
 
 namespace example_kg {
 
-/// Isotropic stiffness in Voigt form (xx, yy, zz, xy, yz, zx; engineering shear):
-///   normal block  K + 4G/3 on the diagonal, K - 2G/3 off it;  shear diagonal G.
-[[nodiscard]] inline stratum::Mat6 stiffness(double K, double G) {
-  stratum::Mat6 D = stratum::Mat6::Zero();
-  D.topLeftCorner<3, 3>().setConstant(K - 2.0 * G / 3.0);
-  for (int i = 0; i < 3; ++i) D(i, i) = K + 4.0 * G / 3.0;
-  for (int i = 3; i < 6; ++i) D(i, i) = G;
-  return D;
-}
-
-/// stress_{n+1} = stress_n + D dstrain with the constant D above. No history.
+/// stress_{n+1} = stress_n + D dstrain with the constant isotropic D of the toolkit
+/// (stratum/elasticity.hpp: K + 4G/3 and K - 2G/3 in the normal block, G on the shear diagonal).
+/// No history.
 class KGElastic final : public stratum::Material {
 public:
-  KGElastic(double K, double G) : D_(stiffness(K, G)) {}
+  KGElastic(double K, double G) : D_(stratum::stiffness_kg(K, G)) {}
 
   [[nodiscard]] bool is_linear() const override { return true; }         // D never changes
   [[nodiscard]] bool symmetric_tangent() const override { return true; } // D = D^T

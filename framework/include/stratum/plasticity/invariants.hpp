@@ -64,4 +64,23 @@ inline Vec6 to_strain_like(Vec6 v) {
   return v;
 }
 
+/// The deviatoric projector on stress-like Voigt vectors: deviator(s) = deviatoric_projector() s
+/// (I - (1/3) 1 1^T on the normal block, identity on the shear entries).
+inline Mat6 deviatoric_projector() {
+  Mat6 M = Mat6::Identity();
+  M.topLeftCorner<3, 3>().array() -= 1.0 / 3.0;
+  return M;
+}
+
+/// d shat / d sigma with shat = to_strain_like(deviator(sigma)) = d J2 / d sigma: the projector
+/// with the shear rows doubled, i.e. the Hessian d2 J2 / d sigma2 in the Voigt gradient
+/// convention of model.hpp (symmetric).
+inline Mat6 deviatoric_projector_strain_like() {
+  Mat6 P = Mat6::Zero();
+  P.topLeftCorner<3, 3>().setConstant(-1.0 / 3.0);
+  for (int i = 0; i < 3; ++i) P(i, i) += 1.0;
+  for (int i = 3; i < 6; ++i) P(i, i) = 2.0;
+  return P;
+}
+
 } // namespace stratum::plasticity
