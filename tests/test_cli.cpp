@@ -114,7 +114,7 @@ TEST_CASE("cli: --version and plugins listing", "[cli]") {
   CHECK(v.code == 0);
   CHECK(v.out.rfind("stratum 0.", 0) == 0);
 
-  auto p = stratum("plugins");
+  auto p = stratum("plugins --describe");
   INFO(p.err);
   REQUIRE(p.code == 0);
   CHECK(p.out.find("element quad:") != std::string::npos);
@@ -131,6 +131,119 @@ TEST_CASE("cli: --version and plugins listing", "[cli]") {
   CHECK(d.out.find("volumetric") != std::string::npos);
   auto u = stratum("plugins --describe nosuch");
   expect_one_line_error(u, "", "unknown plugin 'nosuch'; known: ");
+  CHECK(u.err.find("did you mean") == std::string::npos); // nothing is near "nosuch"
+  auto m = stratum("plugins --describe linear_elastik");
+  expect_one_line_error(m, "", "unknown plugin 'linear_elastik'; known: ");
+  CHECK(m.err.find("; did you mean 'linear_elastic'?") != std::string::npos);
+}
+
+TEST_CASE("cli: the short plugin list has one line per plugin; --all the full listing", "[cli]") {
+  const auto full = stratum("plugins --describe");
+  REQUIRE(full.code == 0);
+  CHECK(stratum("plugins --all").out == full.out);
+  // In the full listing every plugin starts a line at column 0 ("kind name: summary"); its
+  // parameters are indented.
+  int plugins = 0;
+  std::istringstream in(full.out);
+  for (std::string l; std::getline(in, l);) plugins += !l.empty() && l[0] != ' ';
+  REQUIRE(plugins > 10);
+  const auto s = stratum("plugins");
+  INFO(s.err);
+  REQUIRE(s.code == 0);
+  CHECK(lines(s.out) == plugins);
+  CHECK(std::regex_search(s.out, std::regex(R"((^|\n)material +linear_elastic +\S)")));
+  CHECK(std::regex_search(s.out, std::regex(R"((^|\n)element +quad +\S)")));
+  CHECK(std::regex_search(s.out, std::regex(R"((^|\n)solver +newton +\S)")));
+  expect_one_line_error(stratum("plugins --frobnicate"), "", "plugins: unexpected argument '--frobnicate'");
+}
+
+TEST_CASE("cli: --help on every subcommand prints usage, options and exit status and exits 0", "[cli]") {
+  for (const std::string cmd : {"run", "check", "point", "fit", "sweep", "plugins"}) {
+    for (const auto& form : {cmd + " --help", cmd + " -h", "help " + cmd}) {
+      const auto h = stratum(form);
+      INFO(form << "\nstdout: " << h.out << "\nstderr: " << h.err);
+      CHECK(h.code == 0);
+      CHECK(h.err.empty());
+      CHECK(h.out.rfind("usage: stratum " + cmd, 0) == 0);
+      CHECK(h.out.find("exit status: 0 ") != std::string::npos);
+      CHECK(h.out.find("--help") != std::string::npos);
+    }
+  }
+  // Also after other arguments, and the top-level usage names the per-command help.
+  CHECK(stratum("point some.toml --help").code == 0);
+  const auto top = stratum("--help");
+  CHECK(top.code == 0);
+  CHECK(top.out.find("stratum COMMAND --help") != std::string::npos);
+  expect_one_line_error(stratum("help frobnicate"), "", "help: unknown command 'frobnicate'");
+  expect_one_line_error(stratum("rnu x.toml"), "", "unknown command 'rnu'");
+  CHECK(stratum("rnu x.toml").err.find("did you mean 'run'?") != std::string::npos);
+}
+
+TEST_CASE("cli: did you mean: misspelt keys, plugins and sets", "[cli]") {
+  // nu written nuu: one edit away from nu.
+  const auto p1 = write_scene("dym_nuu.toml", edit("nu = 0.3", "nuu = 0.3"));
+  expect_one_line_error(stratum("check " + p1), p1 + ":15:1 ",
+                        "[materials.soil] unknown key 'nuu'; allowed: model, ");
+  CHECK(stratum("check " + p1).err.find("; did you mean 'nu'?\n") != std::string::npos);
+  // A key with nothing near gets no suggestion.
+  const auto p2 = write_scene("dym_none.toml", edit("nu = 0.3", "nu = 0.3\nporosity = 0.4"));
+  const auto r2 = stratum("check " + p2);
+  expect_one_line_error(r2, p2 + ":16:1 ", "unknown key 'porosity'");
+  CHECK(r2.err.find("did you mean") == std::string::npos);
+  // sigma_y written sigma_yy in a von Mises material.
+  const auto p3 =
+      write_scene("dym_sigma.toml", edit("model = \"linear_elastic\"\nE = 1000.0\nnu = 0.3",
+                                         "model = \"von_mises\"\nE = 1000.0\nnu = 0.3\nsigma_yy = 50.0"));
+  const auto r3 = stratum("check " + p3);
+  expect_one_line_error(r3, p3 + ":16:1 ", "unknown key 'sigma_yy'");
+  CHECK(r3.err.find("; did you mean 'sigma_y'?") != std::string::npos);
+  // A misspelt plugin name.
+  const auto p4 =
+      write_scene("dym_plugin.toml", edit("model = \"linear_elastic\"", "model = \"linear_elastc\""));
+  const auto r4 = stratum("check " + p4);
+  expect_one_line_error(r4, p4 + ":13:9 ", "unknown material 'linear_elastc'; known: ");
+  CHECK(r4.err.find("; did you mean 'linear_elastic'?") != std::string::npos);
+  // A misspelt set name and a misspelt top-level table.
+  const auto p5 = write_scene("dym_set.toml", edit("edges = \"ring.left\"", "edges = \"ring.lfet\""));
+  const auto r5 = stratum("check " + p5);
+  expect_one_line_error(r5, p5 + ":28:9 ", "edges = \"ring.lfet\" is not an edge set of the mesh; known: ");
+  CHECK(r5.err.find("; did you mean 'ring.left'?") != std::string::npos);
+  const auto p6 = write_scene(
+      "dym_top.toml", edit("[[constraints]]\nnodes = \"bottom\"", "[[constraint]]\nnodes = \"bottom\""));
+  const auto r6 = stratum("check " + p6);
+  expect_one_line_error(r6, p6 + ":", "unknown key 'constraint' at the top level");
+  CHECK(r6.err.find("; did you mean 'constraints'?") != std::string::npos);
+  // A misspelt option.
+  const auto r7 = stratum("run " + p1 + " --quite");
+  expect_one_line_error(r7, "", "unknown option '--quite'");
+  CHECK(r7.err.find("did you mean '--quiet'?") != std::string::npos);
+}
+
+TEST_CASE("cli: --quiet prints nothing on a good run; progress lines when stderr is not a terminal",
+          "[cli]") {
+  const auto path = write_scene("quiet.toml", good);
+  const auto q = stratum("run " + path + " --quiet --out " + (scratch() / "quiet").string());
+  INFO(q.err);
+  CHECK(q.code == 0);
+  CHECK(q.out.empty());
+  CHECK(q.err.empty());
+  CHECK(fs::exists(scratch() / "quiet" / "quiet.pvd"));
+  const auto c = stratum("check " + path + " --quiet");
+  CHECK(c.code == 0);
+  CHECK(c.out.empty());
+  CHECK(c.err.empty());
+  // stderr is a file here: with --progress-every 0 a line per step, with step, load factor,
+  // iterations and elapsed time; stdout keeps its summary.
+  const auto p = stratum("run " + path + " --progress-every 0 --out " + (scratch() / "progress").string());
+  INFO(p.err);
+  CHECK(p.code == 0);
+  CHECK(p.out.find("done: ") != std::string::npos);
+  CHECK(std::regex_search(
+      p.err, std::regex(R"(^progress: step 1/\d+  load factor [0-9.]+  iterations \d+  elapsed [0-9.]+ s)")));
+  CHECK(p.err.find("\r") == std::string::npos);
+  expect_one_line_error(stratum("run " + path + " --progress-every soon"), "",
+                        "--progress-every needs a number of seconds >= 0");
+  expect_one_line_error(stratum("run " + path + " --quiet --verbose"), "", "--verbose and --quiet exclude");
 }
 
 TEST_CASE("cli: check and run a good scene", "[cli]") {

@@ -28,6 +28,30 @@ constexpr const char* targets = "duncan_chang, contact (goodman_nonlinear), hype
 
 } // namespace
 
+const char* fit_help() {
+  return "usage: stratum fit duncan_chang CURVES.csv [MORE.csv ...] [--form E_nu|E_B] [--range MIN:MAX] [-o "
+         "FILE]\n"
+         "       stratum fit contact DIRECT_SHEAR.csv [...] [--k_s0 VALUE] [--range MIN:MAX] [-o FILE]\n"
+         "       stratum fit hyperbolic_interface DIRECT_SHEAR.csv [...] [--range MIN:MAX] [-o FILE]\n"
+         "\n"
+         "Fits model parameters to laboratory curves and prints them as a TOML fragment\n"
+         "(docs/calibration.md). duncan_chang reads drained triaxial curves (sigma3_kPa, eps_axial,\n"
+         "q_kPa, ...); contact (alias goodman_nonlinear) and hyperbolic_interface read direct-shear\n"
+         "curves (sigma_n_kPa, du_m, tau_kPa).\n"
+         "\n"
+         "options:\n"
+         "  --form E_nu|E_B    duncan_chang: Poisson parameters G, F, d (E_nu, the default) or bulk\n"
+         "                     modulus parameters K_b, m (E_B)\n"
+         "  --k_s0 VALUE       contact: fix the initial shear stiffness (kPa/m, >= 0) instead of fitting it\n"
+         "  --range MIN:MAX    keep only the curves whose sigma_3 (or sigma_n) lies in [MIN, MAX] kPa\n"
+         "  -o, --out FILE     write the fragment to FILE (atomically) instead of stdout; the residual\n"
+         "                     comments are echoed to stderr\n"
+         "  -h, --help         this text\n"
+         "\n"
+         "exit status: 0 fitted, 1 bad input or curves that the model cannot fit (one line on stderr),\n"
+         "  3 internal error\n";
+}
+
 int fit(const std::vector<std::string>& args) {
   namespace cal = calibration;
   if (args.empty()) throw Error(std::string("fit: no target given; allowed: ") + targets);

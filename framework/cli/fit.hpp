@@ -6,6 +6,9 @@
 
 namespace stratum::cli {
 
+/// The text of `stratum fit --help`: usage, options and exit codes.
+const char* fit_help();
+
 /// Runs `stratum fit TARGET FILES... [options]`; throws stratum::Error on bad input.
 int fit(const std::vector<std::string>& args);
 

@@ -1,11 +1,14 @@
 // stratum: the command-line front end.
 //
-//   stratum run SCENE.toml [--out DIR] [--restart-from CHECKPOINT] [--verbose]
-//   stratum check SCENE.toml
-//   stratum plugins [--describe NAME]
+//   stratum run SCENE.toml [--out DIR] [--restart-from CHECKPOINT] [--verbose | --quiet]
+//               [--progress-every SECONDS]
+//   stratum check SCENE.toml [--quiet]
+//   stratum point POINT.toml [--out FILE.csv]
+//   stratum plugins [--describe [NAME] | --all]
 //   stratum fit TARGET CSV... [-o FILE]   (framework/cli/fit.cpp)
 //   stratum sweep STUDY.toml [--out DIR]  (framework/cli/sweep.cpp; also under mpirun)
 //   stratum --version
+//   stratum COMMAND --help, stratum help COMMAND
 //
 // Errors are one line on stderr and a non-zero exit code.
 #include "fit.hpp"
@@ -13,13 +16,17 @@
 #include "stratum/plugin.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/point_driver.hpp"
+#include "stratum/suggest.hpp"
 #include "sweep.hpp"
 
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -46,16 +53,97 @@ void catch_stop_signals() {
 using namespace stratum;
 
 constexpr const char* usage =
-    "usage: stratum run SCENE.toml [--out DIR] [--restart-from CHECKPOINT] [--verbose]\n"
-    "       stratum check SCENE.toml\n"
+    "usage: stratum run SCENE.toml [--out DIR] [--restart-from CHECKPOINT] [--verbose | --quiet]\n"
+    "                  [--progress-every SECONDS]\n"
+    "       stratum check SCENE.toml [--quiet]\n"
     "       stratum point POINT.toml [--out FILE.csv]\n"
-    "       stratum plugins [--describe NAME]\n"
+    "       stratum plugins [--describe [NAME] | --all]\n"
     "       stratum fit TARGET CSV... [-o FILE.toml]\n"
     "       stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]   (also under mpirun -n N)\n"
     "       stratum --version\n"
+    "       stratum COMMAND --help   (or stratum help COMMAND): the command's options and exit status\n"
     "exit status: 0 done (a collapse or a settlement limit of the last stage included), 1 bad input,\n"
     "  2 a stage failed, 3 internal error, 4 an until_failure stage stopped by a numerical failure\n"
     "  (not a collapse), 5 a [[checks]] entry failed, 130/143 interrupted by SIGINT/SIGTERM\n";
+
+constexpr const char* run_help =
+    "usage: stratum run SCENE.toml [--out DIR] [--restart-from CHECKPOINT] [--verbose | --quiet]\n"
+    "                  [--progress-every SECONDS]\n"
+    "\n"
+    "Reads the scene, runs its stages and writes the results (.vtu/.vtp/.pvd, curves, diagnostics,\n"
+    "checkpoints) under DIR; prints the steps done, the time split and, for a pile, the\n"
+    "load-settlement table.\n"
+    "\n"
+    "options:\n"
+    "  --out DIR                  output folder (default out/<scene name>); an earlier run's files\n"
+    "                             move to DIR/previous_run/\n"
+    "  --restart-from CHECKPOINT  continue from a stage checkpoint of the same scene\n"
+    "  --verbose                  one line per accepted step on stderr (iterations, cut-backs, rate,\n"
+    "                             order, time, residuals)\n"
+    "  --quiet                    no progress and no summary; errors only (stderr)\n"
+    "  --progress-every SECONDS   when stderr is not a terminal, a progress line (step, load factor,\n"
+    "                             iterations, elapsed time, estimate for the stage) at most every\n"
+    "                             SECONDS (default 5; 0: every step); on a terminal one line is\n"
+    "                             rewritten in place\n"
+    "  -h, --help                 this text\n"
+    "\n"
+    "exit status: 0 done (a collapse or a settlement limit of the last stage included), 1 bad input\n"
+    "  (one located line on stderr), 2 a stage failed, 3 internal error, 4 an until_failure stage\n"
+    "  stopped by a numerical failure (not a collapse), 130/143 interrupted by SIGINT/SIGTERM (what\n"
+    "  was computed is written)\n";
+
+constexpr const char* check_help =
+    "usage: stratum check SCENE.toml [--quiet]\n"
+    "\n"
+    "Reads the scene, builds the mesh and the model and opens the plugins it names, without\n"
+    "solving; prints the size of the model.\n"
+    "\n"
+    "options:\n"
+    "  --quiet      print nothing when the scene is good\n"
+    "  -h, --help   this text\n"
+    "\n"
+    "exit status: 0 the scene is good, 1 bad input (one located line on stderr), 3 internal error\n";
+
+constexpr const char* point_help =
+    "usage: stratum point POINT.toml [--out FILE.csv]\n"
+    "\n"
+    "Drives one material point along the stress or strain paths of the point file (a triaxial or\n"
+    "oedometer test without a mesh) and writes one CSV row per step.\n"
+    "\n"
+    "options:\n"
+    "  --out FILE.csv   the table (default out/<point file name>.csv); written to a temporary\n"
+    "                   file and renamed, so a regular file or a new name only\n"
+    "  -h, --help       this text\n"
+    "\n"
+    "exit status: 0 done, 1 bad input (one located line on stderr), 2 the material failed on the\n"
+    "  path (the rows computed before are written), 3 internal error\n";
+
+constexpr const char* plugins_help =
+    "usage: stratum plugins                   one line per plugin: kind, name, summary\n"
+    "       stratum plugins --describe NAME   one plugin in full: library, every parameter with\n"
+    "                                         its type, unit, range, default and meaning\n"
+    "       stratum plugins --describe        (or --all) every plugin in full\n"
+    "\n"
+    "Plugins are found on STRATUM_PLUGIN_PATH, then in the program's own plugin folder.\n"
+    "\n"
+    "options:\n"
+    "  -h, --help   this text\n"
+    "\n"
+    "exit status: 0 listed, 1 unknown plugin name or a plugin library that cannot be opened,\n"
+    "  3 internal error\n";
+
+/// The --help text of a subcommand; nullptr for an unknown one.
+const char* help_of(const std::string& cmd) {
+  if (cmd == "run") return run_help;
+  if (cmd == "check") return check_help;
+  if (cmd == "point") return point_help;
+  if (cmd == "plugins") return plugins_help;
+  if (cmd == "fit") return stratum::cli::fit_help();
+  if (cmd == "sweep") return stratum::cli::sweep_help();
+  return nullptr;
+}
+
+constexpr const char* commands[] = {"run", "check", "point", "fit", "sweep", "plugins", "help", "--version"};
 
 constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,
                                 PluginKind::solver};
@@ -95,25 +183,118 @@ void describe(const Registry& reg, PluginKind kind, const std::string& name, boo
 }
 
 int plugins(const std::vector<std::string>& args) {
+  const bool all = args.size() == 1 && (args[0] == "--describe" || args[0] == "--all");
+  const bool one = args.size() == 2 && args[0] == "--describe";
+  if (!args.empty() && !all && !one)
+    throw Error("plugins: unexpected argument" + std::string(args.size() > 2 ? "s" : "") + " '" + args[0] +
+                (args.size() > 1 ? " " + args[1] + (args.size() > 2 ? " ..." : "") : "") +
+                "'; allowed: --describe [NAME], --all (see stratum plugins --help)");
   PluginCatalog catalog(PluginCatalog::default_directories());
   Registry reg;
   catalog.require_all(reg);
-  if (args.size() >= 2 && args[0] == "--describe") {
+  if (one) {
     for (PluginKind k : kinds)
       if (reg.has(k, args[1])) {
         describe(reg, k, args[1], true);
         return 0;
       }
     std::string known;
+    std::vector<std::string> names;
     for (PluginKind k : kinds)
-      for (const auto& n : reg.names(k)) known += (known.empty() ? "" : ", ") + n;
-    throw Error("unknown plugin '" + args[1] + "'; known: " + known);
+      for (const auto& n : reg.names(k)) {
+        known += (known.empty() ? "" : ", ") + n;
+        names.push_back(n);
+      }
+    throw Error("unknown plugin '" + args[1] + "'; known: " + known + did_you_mean(args[1], names));
   }
-  if (!args.empty()) throw Error("plugins: unexpected argument '" + args[0] + "'; allowed: --describe NAME");
+  if (all) {
+    for (PluginKind k : kinds)
+      for (const auto& n : reg.names(k)) describe(reg, k, n, false);
+    return 0;
+  }
+  // The short list: one line per plugin; the summary is the first line of the plugin's own.
+  std::size_t width = 0;
   for (PluginKind k : kinds)
-    for (const auto& n : reg.names(k)) describe(reg, k, n, false);
+    for (const auto& n : reg.names(k)) width = std::max(width, n.size());
+  for (PluginKind k : kinds)
+    for (const auto& n : reg.names(k)) {
+      std::string summary;
+      static_cast<void>(reg.schema(k, n, &summary));
+      summary = summary.substr(0, summary.find('\n'));
+      std::cout << std::left << std::setw(12) << to_string(k) << std::setw(static_cast<int>(width) + 2) << n
+                << summary << "\n";
+    }
   return 0;
 }
+
+/// The progress of a run on stderr: on a terminal one line rewritten in place after every step;
+/// otherwise (a batch job, a log file) one line at most every `every` seconds. The step callback
+/// does not say which stage runs: a stage is taken to start when the step number starts again.
+class Progress {
+public:
+  Progress(bool tty, double every) : tty_(tty), every_(every) {}
+  void step(int step, int steps, double lambda, int iterations) {
+    const auto now = Clock::now();
+    if (step <= last_step_) stage_start_ = last_; // the step count started again: a new stage
+    last_step_ = step;
+    last_ = now;
+    if (!tty_ && seconds(last_shown_, now) < every_) return; // the first after `every` s
+    last_shown_ = now;
+    shown_ = true;
+    std::ostringstream o;
+    o << "step " << step << "/" << steps << "  load factor " << std::fixed << std::setprecision(4) << lambda
+      << "  iterations " << iterations << "  elapsed " << duration(seconds(start_, now));
+    // The load factor goes from 0 to 1 over a stage: the time per unit of it so far gives the rest.
+    if (lambda > 0.0 && lambda < 1.0)
+      o << "  about " << duration(seconds(stage_start_, now) * (1.0 - lambda) / lambda)
+        << " left in the stage";
+    if (tty_)
+      std::cerr << "\r" << o.str() << "\033[K" << std::flush;
+    else
+      std::cerr << "progress: " << o.str() << "\n" << std::flush;
+  }
+  void end() const {
+    if (tty_ && shown_) std::cerr << "\n";
+  }
+
+private:
+  using Clock = std::chrono::steady_clock;
+  static double seconds(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  }
+  static std::string duration(double s) {
+    std::ostringstream o;
+    if (s < 60.0)
+      o << std::fixed << std::setprecision(s < 10.0 ? 1 : 0) << s << " s";
+    else if (s < 3600.0)
+      o << static_cast<int>(s / 60.0) << " min " << static_cast<int>(s) % 60 << " s";
+    else
+      o << static_cast<int>(s / 3600.0) << " h " << static_cast<int>(s / 60.0) % 60 << " min";
+    return o.str();
+  }
+  bool tty_;
+  double every_;
+  bool shown_ = false;
+  int last_step_ = 0;
+  Clock::time_point start_ = Clock::now(), stage_start_ = start_, last_ = start_, last_shown_ = start_;
+};
+
+/// Sends std::cout nowhere while it lives (--quiet); errors go to std::cerr and stay.
+class MuteStdout {
+public:
+  explicit MuteStdout(bool mute) : old_(mute ? std::cout.rdbuf(&null_) : nullptr) {}
+  ~MuteStdout() {
+    if (old_) std::cout.rdbuf(old_);
+  }
+  MuteStdout(const MuteStdout&) = delete;
+  MuteStdout& operator=(const MuteStdout&) = delete;
+
+private:
+  struct Null : std::streambuf {
+    int overflow(int c) override { return traits_type::not_eof(c); }
+  } null_;
+  std::streambuf* old_;
+};
 
 int point(const std::vector<std::string>& args) {
   std::string file, out;
@@ -154,7 +335,8 @@ int point(const std::vector<std::string>& args) {
 
 int run(const std::vector<std::string>& args, bool check_only) {
   std::string scene, out, restart;
-  bool verbose = false;
+  bool verbose = false, quiet = false;
+  double progress_every = 5.0;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--out" && !check_only) {
       if (i + 1 >= args.size()) throw Error("--out needs a directory");
@@ -164,9 +346,24 @@ int run(const std::vector<std::string>& args, bool check_only) {
       restart = args[++i];
     } else if (args[i] == "--verbose" && !check_only) {
       verbose = true;
+    } else if (args[i] == "--quiet") {
+      quiet = true;
+    } else if (args[i] == "--progress-every" && !check_only) {
+      char* end = nullptr;
+      if (i + 1 >= args.size() || (progress_every = std::strtod(args[++i].c_str(), &end), *end) ||
+          !(progress_every >= 0.0))
+        throw Error("--progress-every needs a number of seconds >= 0");
     } else if (!args[i].empty() && args[i][0] == '-') {
-      throw Error("unknown option '" + args[i] +
-                  "'; allowed: --out DIR, --restart-from CHECKPOINT, --verbose (see stratum --help)");
+      const std::vector<std::string_view> allowed =
+          check_only ? std::vector<std::string_view>{"--quiet"}
+                     : std::vector<std::string_view>{"--out", "--restart-from", "--verbose", "--quiet",
+                                                     "--progress-every"};
+      throw Error("unknown option '" + args[i] + "'; allowed: " +
+                  (check_only ? "--quiet"
+                              : "--out DIR, --restart-from CHECKPOINT, --verbose, --quiet, --progress-every "
+                                "SECONDS") +
+                  did_you_mean(args[i], allowed) + " (see stratum " + (check_only ? "check" : "run") +
+                  " --help)");
     } else if (scene.empty()) {
       scene = args[i];
     } else {
@@ -174,6 +371,8 @@ int run(const std::vector<std::string>& args, bool check_only) {
     }
   }
   if (scene.empty()) throw Error("no scene file given (see stratum --help)");
+  if (verbose && quiet) throw Error("--verbose and --quiet exclude each other");
+  const MuteStdout mute(quiet);
   RunOptions opts;
   opts.out_dir = out;
   opts.restart_from = restart;
@@ -187,13 +386,9 @@ int run(const std::vector<std::string>& args, bool check_only) {
     std::cerr << "\n";
   };
   opts.interrupted = [] { return stop_signal != 0; };
+  Progress progress(tty, progress_every);
   opts.on_step = [&](int step, int steps, double lambda, const StepReport& rep) {
-    if (verbose) {
-      return; // on_record prints the full line
-    } else if (tty) {
-      std::cerr << "\rstep " << step << "/" << steps << "  load factor " << std::fixed << std::setprecision(4)
-                << lambda << "  iterations " << rep.iterations << std::defaultfloat << std::flush;
-    }
+    if (!verbose && !quiet) progress.step(step, steps, lambda, rep.iterations); // --verbose: on_record
   };
   auto analysis = Analysis::from_file(scene, opts);
   if (check_only) {
@@ -205,7 +400,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
   }
   catch_stop_signals();
   const RunSummary s = analysis->run();
-  if (tty && !verbose) std::cerr << "\n";
+  progress.end();
   if (!s.outcome.ok()) {
     std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message
               << "\n";
@@ -285,6 +480,20 @@ int main(int argc, char** argv) {
     }
     const std::string cmd = args[0];
     std::vector<std::string> rest(args.begin() + 1, args.end());
+    // `stratum COMMAND --help` (anywhere among its arguments) and `stratum help COMMAND`.
+    const bool help = std::find(rest.begin(), rest.end(), "--help") != rest.end() ||
+                      std::find(rest.begin(), rest.end(), "-h") != rest.end();
+    if (help && help_of(cmd)) {
+      std::cout << help_of(cmd);
+      return 0;
+    }
+    if ((cmd == "help" || cmd == "--help" || cmd == "-h") && !rest.empty()) {
+      if (!help_of(rest[0]))
+        throw Error("help: unknown command '" + rest[0] +
+                    "'; allowed: run, check, point, fit, sweep, plugins" + did_you_mean(rest[0], commands));
+      std::cout << help_of(rest[0]);
+      return 0;
+    }
     if (cmd == "--version" || cmd == "version") {
       std::cout << "stratum " << STRATUM_VERSION << " (plugin ABI " << STRATUM_PLUGIN_ABI_VERSION << ")\n";
       return 0;
@@ -299,7 +508,9 @@ int main(int argc, char** argv) {
       std::cout << usage;
       return 0;
     }
-    throw Error("unknown command '" + cmd + "'; allowed: run, check, point, fit, sweep, plugins, --version");
+    throw Error("unknown command '" + cmd +
+                "'; allowed: run, check, point, fit, sweep, plugins, help, --version" +
+                did_you_mean(cmd, commands));
   } catch (const stratum::Error& e) {
     std::cerr << "stratum: " << e.what() << "\n";
     return 1;

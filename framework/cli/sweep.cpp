@@ -461,6 +461,27 @@ int worker(const Study& study, const fs::path& out) {
 
 } // namespace
 
+const char* sweep_help() {
+  return "usage: stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]\n"
+         "       mpirun -n N stratum sweep STUDY.toml [--out DIR]\n"
+         "\n"
+         "Runs a parameter study (docs/sweep.md): one scene per sample, on this process or on N MPI\n"
+         "ranks (rank 0 hands out samples and writes the output). A rerun into the same folder runs\n"
+         "only the samples that its journal lacks.\n"
+         "\n"
+         "options:\n"
+         "  --out DIR            output folder (default out/<study name>): journal.csv, samples.csv,\n"
+         "                       timings.csv and one folder per sample\n"
+         "  --print-scene INDEX  print the scene of sample INDEX (0-based) and exit; runs nothing\n"
+         "  -h, --help           this text\n"
+         "\n"
+         "Progress goes to stderr: one line rewritten in place on a terminal, a line every 5 s\n"
+         "otherwise.\n"
+         "\n"
+         "exit status: 0 done (samples that failed are listed with their reason in samples.csv),\n"
+         "  1 bad input, 3 internal error\n";
+}
+
 int sweep(const std::vector<std::string>& args) {
   std::string file, out, print;
   for (std::size_t i = 0; i < args.size(); ++i) {

@@ -6,6 +6,9 @@
 
 namespace stratum::cli {
 
+/// The text of `stratum sweep --help`: usage, options and exit codes.
+const char* sweep_help();
+
 /// Runs `stratum sweep STUDY.toml [--out DIR]`; throws stratum::Error on bad input (rank 0).
 int sweep(const std::vector<std::string>& args);
 

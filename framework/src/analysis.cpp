@@ -324,10 +324,10 @@ std::vector<const toml::table*> table_list(const toml::table& root, std::string_
   return v;
 }
 
-template <class Map> std::string key_list(const Map& m) {
+template <class Map> std::string key_list(const Map& m, std::string_view name = {}) {
   std::string s;
   for (const auto& [k, v] : m) s += (s.empty() ? "" : ", ") + k;
-  return s.empty() ? "(none)" : s;
+  return (s.empty() ? "(none)" : s) + (name.empty() ? "" : did_you_mean(name, m));
 }
 
 } // namespace
@@ -391,7 +391,8 @@ void Analysis::Impl::build(const toml::table& root) {
     if (std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end()) {
       std::string allowed;
       for (auto t : top_keys) allowed += (allowed.empty() ? "" : ", ") + std::string(t);
-      throw Error(location(key.source()), "unknown key '" + k + "' at the top level; allowed: " + allowed);
+      throw Error(location(key.source()), "unknown key '" + k + "' at the top level; allowed: " + allowed +
+                                              did_you_mean(k, top_keys));
     }
   }
   if (const auto* t = root.get("title")) {
@@ -651,12 +652,12 @@ void Analysis::Impl::build(const toml::table& root) {
     if (cs == model.mesh.cell_sets.end())
       throw Error(location(*t.get("cells")),
                   ctx + " cells = \"" + cells +
-                      "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
+                      "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets, cells));
     auto mat = material_by_name.find(material);
     if (mat == material_by_name.end())
       throw Error(location(*t.get("material")),
                   ctx + " material = \"" + material +
-                      "\" is not defined; defined: " + key_list(material_by_name));
+                      "\" is not defined; defined: " + key_list(material_by_name, material));
     try {
       catalog->require(registry, PluginKind::element, element);
     } catch (const Error& e) {
@@ -720,7 +721,7 @@ void Analysis::Impl::build(const toml::table& root) {
     if (ns == model.mesh.node_sets.end())
       throw Error(location(*t->get("nodes")),
                   "[[constraints]] nodes = \"" + set +
-                      "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets));
+                      "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets, set));
     Schema s;
     s.real("ux", "m", "prescribed x (radial) displacement at load factor 1").defaults_to(0.0);
     s.real("uy", "m", "prescribed y (vertical) displacement at load factor 1").defaults_to(0.0);
@@ -865,7 +866,7 @@ stage::LoadSpec Analysis::Impl::parse_load(const toml::table& t, const std::stri
     if (!sets.count(p.text(key)))
       throw Error(p.where(key).known() ? p.where(key) : location(t),
                   ctx + " " + key + " = \"" + p.text(key) + "\" is not " + what +
-                      " of the mesh; known: " + key_list(sets));
+                      " of the mesh; known: " + key_list(sets, p.text(key)));
   };
   if (type == "pressure") {
     Schema s;

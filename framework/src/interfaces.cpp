@@ -161,10 +161,10 @@ using io::check_table;
 using io::location;
 using io::require_string;
 
-template <class Map> std::string names_of(const Map& m) {
+template <class Map> std::string names_of(const Map& m, std::string_view name = {}) {
   std::string s;
   for (const auto& [k, v] : m) s += (s.empty() ? "" : ", ") + k;
-  return s.empty() ? "(none)" : s;
+  return (s.empty() ? "(none)" : s) + (name.empty() ? "" : did_you_mean(name, m));
 }
 
 } // namespace
@@ -225,21 +225,21 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
     if (es == model.mesh.edge_sets.end())
       throw Error(location(*t->get("edges")),
                   ctx + " edges = \"" + edges +
-                      "\" is not an edge set of the mesh; known: " + names_of(model.mesh.edge_sets));
+                      "\" is not an edge set of the mesh; known: " + names_of(model.mesh.edge_sets, edges));
     std::vector<int> body2;
     if (!cells.empty()) {
       auto cs = model.mesh.cell_sets.find(cells);
       if (cs == model.mesh.cell_sets.end())
         throw Error(location(*t->get("cells")),
                     ctx + " cells = \"" + cells +
-                        "\" is not a cell set of the mesh; known: " + names_of(model.mesh.cell_sets));
+                        "\" is not a cell set of the mesh; known: " + names_of(model.mesh.cell_sets, cells));
       body2 = cs->second;
     }
     auto lw = law_by_name.find(law);
     if (lw == law_by_name.end())
       throw Error(location(*t->get("law")),
                   ctx + " law = \"" + law +
-                      "\" is not defined; defined [contact_laws]: " + names_of(law_by_name));
+                      "\" is not defined; defined [contact_laws]: " + names_of(law_by_name, law));
     InterfaceCells kind;
     if (element == "contact2")
       kind = InterfaceCells::node_pairs;

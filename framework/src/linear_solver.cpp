@@ -1,4 +1,5 @@
 #include "stratum/linear_solver.hpp"
+#include "stratum/suggest.hpp"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
@@ -91,7 +92,8 @@ std::unique_ptr<LinearSolver> make_linear_solver(const std::string& name, bool s
     return std::make_unique<EigenBacked<Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>>>>(n);
   std::string known;
   for (const auto& k : linear_solver_names()) known += (known.empty() ? "" : ", ") + k;
-  throw Error("unknown linear solver '" + name + "'; known: " + known);
+  throw Error("unknown linear solver '" + name + "'; known: " + known +
+              did_you_mean(name, linear_solver_names()));
 }
 
 } // namespace stratum

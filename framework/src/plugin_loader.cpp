@@ -1,6 +1,7 @@
 #include "stratum/plugin_loader.hpp"
 
 #include "stratum/plugin.hpp"
+#include "stratum/suggest.hpp"
 
 #include <dlfcn.h>
 
@@ -133,7 +134,8 @@ void PluginCatalog::require(Registry& registry, PluginKind kind, const std::stri
   std::string dirs;
   for (const auto& d : dirs_) dirs += (dirs.empty() ? "" : ":") + d;
   throw Error(std::string("unknown ") + to_string(kind) + " '" + name +
-              "'; known: " + (known_names.empty() ? "(none)" : known_names) + " (plugin path " + dirs + ")");
+              "'; known: " + (known_names.empty() ? "(none)" : known_names) + " (plugin path " + dirs + ")" +
+              did_you_mean(name, known(kind)));
 }
 
 void PluginCatalog::require_all(Registry& registry) {

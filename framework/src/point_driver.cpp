@@ -130,8 +130,10 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
   }
   for (auto&& [key, value] : root)
     if (key.str() != "title" && key.str() != "material" && key.str() != "initial" && key.str() != "paths")
-      throw Error(location(key.source()), "unknown key '" + std::string(key.str()) +
-                                              "' at the top level; allowed: title, material, initial, paths");
+      throw Error(location(key.source()),
+                  "unknown key '" + std::string(key.str()) +
+                      "' at the top level; allowed: title, material, initial, paths" +
+                      did_you_mean(key.str(), {"title", "material", "initial", "paths"}));
   auto impl = std::make_unique<Impl>();
   impl->catalog = std::make_unique<PluginCatalog>(dirs.empty() ? PluginCatalog::default_directories() : dirs);
 

@@ -1,5 +1,7 @@
 #include "stratum/registry.hpp"
 
+#include "stratum/suggest.hpp"
+
 namespace stratum {
 
 const char* to_string(PluginKind k) {
@@ -39,7 +41,7 @@ const Factory<T>& Registry::find(const std::map<std::string, Factory<T>>& m, Plu
   std::string known;
   for (const auto& [n, f] : m) known += (known.empty() ? "" : ", ") + n;
   throw Error(std::string("unknown ") + to_string(kind) + " '" + name +
-              "'; known: " + (known.empty() ? "(none)" : known) + unknown_hint);
+              "'; known: " + (known.empty() ? "(none)" : known) + unknown_hint + did_you_mean(name, m));
 }
 
 template void Registry::add_to(std::map<std::string, Factory<Material>>&, PluginKind, Factory<Material>);

@@ -1,5 +1,7 @@
 #include "toml_check.hpp"
 
+#include "stratum/suggest.hpp"
+
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -89,10 +91,15 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
     for (auto e : extra) ok = ok || e == k;
     if (!ok) {
       std::string allowed;
+      std::vector<std::string_view> names(extra.begin(), extra.end());
       for (auto e : extra) allowed += (allowed.empty() ? "" : ", ") + std::string(e);
-      for (const auto& s : schema.specs()) allowed += (allowed.empty() ? "" : ", ") + s.name;
-      throw Error(location(key.source()),
-                  context + " unknown key '" + k + "'; allowed: " + (allowed.empty() ? "(none)" : allowed));
+      for (const auto& s : schema.specs()) {
+        allowed += (allowed.empty() ? "" : ", ") + s.name;
+        names.emplace_back(s.name);
+      }
+      throw Error(location(key.source()), context + " unknown key '" + k +
+                                              "'; allowed: " + (allowed.empty() ? "(none)" : allowed) +
+                                              did_you_mean(k, names));
     }
   }
   Params p;

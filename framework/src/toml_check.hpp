@@ -3,6 +3,7 @@
 #pragma once
 
 #include "stratum/params.hpp"
+#include "stratum/suggest.hpp"
 
 #include <toml++/toml.h>
 
