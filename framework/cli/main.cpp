@@ -458,14 +458,17 @@ int run(const std::vector<std::string>& args, bool check_only) {
   if (s.stop_reason == "numerical") return 4;
   // The scene's [[checks]]: one line each; a failed check is exit status 5.
   bool checks_pass = true;
+  std::string failed;
   for (const auto& c : s.checks) {
+    if (!c.pass) failed += (failed.empty() ? "" : ", ") + c.label;
     std::cout << "check " << c.label << " = " << std::setprecision(10) << c.value << ", expected "
               << c.expected << " +- " << std::setprecision(3) << c.tolerance << ": "
               << (c.pass ? "pass" : "FAIL") << "\n"
               << std::defaultfloat;
     checks_pass = checks_pass && c.pass;
   }
-  if (!checks_pass) std::cerr << "stratum: " << scene << ": a check failed (see the check lines above)\n";
+  if (!checks_pass)
+    std::cerr << "stratum: " << scene << ": a check failed: " << failed << " (the check lines on stdout)\n";
   return checks_pass ? 0 : 5;
 }
 
