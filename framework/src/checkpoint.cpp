@@ -1,7 +1,10 @@
 #include "checkpoint.hpp"
 
-#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_iarchive_impl.hpp>
 #include <boost/archive/binary_oarchive.hpp>
+#include <boost/archive/impl/archive_serializer_map.ipp>
+#include <boost/archive/impl/basic_binary_iarchive.ipp>
+#include <boost/archive/impl/basic_binary_iprimitive.ipp>
 #include <boost/crc.hpp>
 #include <boost/serialization/string.hpp>
 #include <boost/serialization/vector.hpp>
@@ -12,6 +15,67 @@
 #include <sstream>
 
 namespace fs = std::filesystem;
+
+namespace stratum {
+namespace {
+
+/// Boost's binary input archive with every count and length it reads (collections, strings, the
+/// archive's own signature) bounded by the payload's size: each element takes at least one byte,
+/// so a larger count is damage, and it is refused before anything is allocated for it (a payload
+/// whose CRC matches but whose counts are forged made the reader request petabytes; found by
+/// tests/fuzz/fuzz_checkpoint). The wire format is binary_iarchive's.
+class BoundedArchive
+    : public boost::archive::binary_iarchive_impl<BoundedArchive, char, std::char_traits<char>> {
+  using Base = boost::archive::binary_iarchive_impl<BoundedArchive, char, std::char_traits<char>>;
+  friend class boost::archive::detail::interface_iarchive<BoundedArchive>;
+  friend class boost::archive::basic_binary_iarchive<BoundedArchive>;
+  friend class boost::archive::basic_binary_iprimitive<BoundedArchive, char, std::char_traits<char>>;
+  friend class boost::archive::load_access;
+
+public:
+  BoundedArchive(std::istream& in, std::size_t limit) : Base(in, 0), limit_(limit) { init(0); }
+
+protected:
+  using Base::load;
+  using Base::load_override;
+  void load_override(boost::serialization::collection_size_type& t) {
+    Base::load_override(t);
+    check(t);
+  }
+  void load(std::string& s) {
+    std::size_t n = 0;
+    load(n);
+    check(n);
+    s.resize(n);
+    if (n > 0) load_binary(s.data(), n);
+  }
+  // binary_iarchive copies the byte into the bool: any value but 0 and 1 is undefined behaviour
+  // (UBSan under tests/fuzz/fuzz_checkpoint).
+  void load(bool& b) {
+    unsigned char byte = 0;
+    load_binary(&byte, 1);
+    if (byte > 1) throw Error("a flag stored as " + std::to_string(byte) + ", not 0 or 1");
+    b = byte == 1;
+  }
+
+private:
+  void check(std::size_t n) const {
+    if (n > limit_)
+      throw Error("a count of " + std::to_string(n) + " exceeds the " + std::to_string(limit_) +
+                  " payload bytes");
+  }
+  std::size_t limit_;
+};
+
+} // namespace
+} // namespace stratum
+
+BOOST_SERIALIZATION_REGISTER_ARCHIVE(stratum::BoundedArchive)
+BOOST_SERIALIZATION_USE_ARRAY_OPTIMIZATION(stratum::BoundedArchive)
+template class boost::archive::basic_binary_iprimitive<stratum::BoundedArchive, char, std::char_traits<char>>;
+template class boost::archive::basic_binary_iarchive<stratum::BoundedArchive>;
+template class boost::archive::binary_iarchive_impl<stratum::BoundedArchive, char, std::char_traits<char>>;
+template class boost::archive::detail::archive_serializer_map<stratum::BoundedArchive>;
 
 namespace stratum {
 
@@ -50,6 +114,10 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
 Checkpoint read_checkpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the checkpoint");
+  return read_checkpoint(in, path);
+}
+
+Checkpoint read_checkpoint(std::istream& in, const std::string& path) {
   std::string header;
   std::getline(in, header);
   std::istringstream hs(header);
@@ -82,11 +150,17 @@ Checkpoint read_checkpoint(const std::string& path) {
   Checkpoint c;
   try {
     std::istringstream payload(bytes, std::ios::binary);
-    boost::archive::binary_iarchive ar(payload);
+    BoundedArchive ar(payload, size);
     ar >> c;
   } catch (const std::exception& e) {
     throw Error(path + ": damaged checkpoint: " + e.what());
   }
+  for (const auto& l : c.loads)
+    if (l.kind != stage::LoadSpec::Kind::pressure && l.kind != stage::LoadSpec::Kind::force &&
+        l.kind != stage::LoadSpec::Kind::gravity)
+      throw Error(path + ": damaged checkpoint: load '" + l.name + "' has kind " +
+                  std::to_string(static_cast<int>(l.kind)) +
+                  ", not one of 0 (pressure), 1 (force), 2 (gravity)");
   return c;
 }
 
