@@ -82,6 +82,15 @@ namespace stratum {
 namespace {
 constexpr const char* magic = "STRATUM-CHECKPOINT";
 
+/// The bytes every payload starts with: Boost's archive header as this build writes it (signature,
+/// library version, sizes). Boost reads it with assertions only, so a payload cut or forged inside
+/// it was not reported but asserted or read on (found by tests/fuzz/fuzz_checkpoint).
+std::string archive_header() {
+  std::ostringstream s(std::ios::binary);
+  { boost::archive::binary_oarchive ar(s); }
+  return s.str();
+}
+
 std::uint32_t crc32(const std::string& s) {
   boost::crc_32_type crc;
   crc.process_bytes(s.data(), s.size());
@@ -147,6 +156,11 @@ Checkpoint read_checkpoint(std::istream& in, const std::string& path) {
   want << std::hex << std::setw(8) << std::setfill('0') << crc32(bytes);
   if (want.str() != crc_hex)
     throw Error(path + ": damaged checkpoint: CRC-32 is " + want.str() + ", the header says " + crc_hex);
+  if (const std::string h = archive_header(); bytes.compare(0, h.size(), h) != 0)
+    throw Error(
+        path + ": damaged checkpoint: the payload does not start with the " + std::to_string(h.size()) +
+        "-byte archive header this build writes (Boost.Serialization binary archive, library version " +
+        std::to_string(static_cast<unsigned>(boost::archive::BOOST_ARCHIVE_VERSION())) + ")");
   Checkpoint c;
   try {
     std::istringstream payload(bytes, std::ios::binary);
