@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -410,4 +411,24 @@ TEST_CASE("hardening_soil: the loess point inputs", "[hardening_soil]") {
     CHECK(back.strain[1] == Approx(turn.strain[1]).epsilon(1e-9));
     CHECK((back.stress - turn.stress).norm() < 1e-8 * turn.stress.norm());
   }
+}
+
+TEST_CASE("hardening_soil: a residual-only update does not read the caller's tangent storage",
+          "[hardening_soil]") {
+  // With want_tangent = false the material leaves out.tangent as it is; it used to check it for
+  // NaN anyway, so uninitialised caller storage failed the update at random (found by the
+  // sanitizer build: the pile scene's first assembly stopped with "non-finite stress or tangent").
+  const auto m = make(base_set());
+  const Point pt = at(*m, diag(-100.0, -100.0, -100.0));
+  const Vec6 e0 = Vec6::Zero();
+  const Vec6 de = diag(-1e-4, 0.0, 0.0);
+  Vec6 s;
+  std::vector<double> h(pt.h.size(), 0.0);
+  Mat6 T = Mat6::Constant(std::numeric_limits<double>::quiet_NaN());
+  stratum::MaterialOutput out{s, h, T};
+  stratum::MaterialInput in{pt.stress, e0, pt.h, de, {0, 0}};
+  in.want_tangent = false;
+  REQUIRE(m->update(in, out).ok());
+  CHECK(s.allFinite());
+  CHECK(std::isnan(T(0, 0))); // left as it was
 }

@@ -1,5 +1,7 @@
 # Shared set-up of tools/run, tools/test and tools/bench (sourced, not run).
 # STRATUM_EXTRA_PACKAGES adds Debian packages to install (tools/bench: calculix-ccx, matplotlib).
+# STRATUM_CMAKE_ARGS (a bash array set before sourcing) adds options to the first configure
+# (tools/ci_sanitize: clang and the sanitizers).
 # Installs the Debian packages Stratum needs when they are missing, then
 # configures and builds the Release tree in build/release.
 set -euo pipefail
@@ -9,6 +11,7 @@ STRATUM_BUILD="${STRATUM_BUILD:-$STRATUM_ROOT/build/release}"
 STRATUM_PACKAGES=(cmake ninja-build g++ gfortran pkg-config libeigen3-dev libboost-dev libboost-filesystem-dev libboost-serialization-dev libvtk9-dev
   libsundials-dev libtomlplusplus-dev catch2 libsuitesparse-dev libopenblas0-pthread python3-matplotlib
   libopenmpi-dev openmpi-bin
+  clang libclang-rt-14-dev llvm # tools/ci_sanitize: sanitizers, libFuzzer, llvm-symbolizer for the reports
   ${STRATUM_EXTRA_PACKAGES:-})
 
 stratum_install_packages() {
@@ -31,7 +34,8 @@ stratum_build() {
   # its own tree) keeps its build type.
   # A tree whose first configure failed (a cache but no build system) is configured again.
   [[ -f "$STRATUM_BUILD/CMakeCache.txt" && (-f "$STRATUM_BUILD/build.ninja" || -f "$STRATUM_BUILD/Makefile") ]] ||
-    cmake -S "$STRATUM_ROOT" -B "$STRATUM_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+    cmake -S "$STRATUM_ROOT" -B "$STRATUM_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+      ${STRATUM_CMAKE_ARGS[@]+"${STRATUM_CMAKE_ARGS[@]}"} >/dev/null
   # getconf, not nproc: nproc honours the OMP_NUM_THREADS=1 exported below and built on one core.
   cmake --build "$STRATUM_BUILD" -j "$(getconf _NPROCESSORS_ONLN)"
 }

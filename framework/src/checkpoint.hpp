@@ -7,6 +7,7 @@
 
 #include "stage.hpp"
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -37,5 +38,7 @@ struct Checkpoint {
 void write_checkpoint(const std::string& path, const Checkpoint& c);
 /// Reads and verifies header, size and checksum. Throws Error naming the file and the defect.
 Checkpoint read_checkpoint(const std::string& path);
+/// The same from a seekable binary stream; `path` names it in messages (tests/fuzz/fuzz_checkpoint.cpp).
+Checkpoint read_checkpoint(std::istream& in, const std::string& path);
 
 } // namespace stratum
