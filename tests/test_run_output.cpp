@@ -4,9 +4,11 @@
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
@@ -65,5 +67,83 @@ TEST_CASE("cli: the default scene writes a .pvd series that VTK reads back", "[c
   pr->Update();
   CHECK(pr->GetOutput()->GetNumberOfPoints() == 16 * 9);
   CHECK(pr->GetOutput()->GetPointData()->GetArray("stress") != nullptr);
+  fs::remove_all(out);
+}
+
+TEST_CASE("cli: the VTK series carries field data per step, strictly increasing times and named components",
+          "[cli][output]") {
+  // Found on 997ba04: no stage name, load factor or head load in the series; two files shared
+  // timestep="1" (ParaView hides one); interface tractions showed as X/Y.
+  const fs::path out = fs::temp_directory_path() / ("stratum_fielddata_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string scene = std::string(STRATUM_SOURCE_DIR) + "/inputs/loess_pile/hypoelastic.toml";
+  const std::string cmd = std::string("STRATUM_PLUGIN_PATH= ") + STRATUM_EXE + " run " + scene + " --out " +
+                          out.string() + " > " + (out.string() + ".log") + " 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  std::ifstream in(out / "hypoelastic.pvd");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  std::regex ds(R"re(<DataSet timestep="([^"]+)"[^>]*file="([^"]+)")re");
+  std::vector<std::pair<double, std::string>> sets;
+  for (auto it = std::sregex_iterator(s.begin(), s.end(), ds); it != std::sregex_iterator(); ++it)
+    sets.emplace_back(std::stod((*it)[1]), (*it)[2]);
+  REQUIRE(sets.size() > 10);
+  for (std::size_t i = 1; i < sets.size(); ++i) CHECK(sets[i].first > sets[i - 1].first);
+  // The last converged head load and settlement of curves/load_settlement.csv.
+  double load = 0, settlement = 0;
+  {
+    std::ifstream c(out / "curves" / "load_settlement.csv");
+    std::string line, last;
+    while (std::getline(c, line)) last = line;
+    load = std::stod(last.substr(0, last.find(',')));
+    settlement = std::stod(last.substr(last.find(',') + 1));
+  }
+  auto read = [&](const std::string& file) {
+    auto r = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+    r->SetFileName((out / file).string().c_str());
+    r->Update();
+    return vtkSmartPointer<vtkUnstructuredGrid>(r->GetOutput());
+  };
+  const auto last = read(sets.back().second);
+  vtkFieldData* fd = last->GetFieldData();
+  REQUIRE(fd != nullptr);
+  auto value = [&](vtkFieldData* f, const char* name) {
+    vtkDataArray* a = f->GetArray(name);
+    REQUIRE(a != nullptr);
+    return a->GetComponent(0, 0);
+  };
+  auto* stage = vtkStringArray::SafeDownCast(fd->GetAbstractArray("stage"));
+  REQUIRE(stage != nullptr);
+  CHECK(stage->GetValue(0) == "loading");
+  CHECK(value(fd, "stage_number") == 4.0);
+  CHECK(value(fd, "time") == Approx(sets.back().first).epsilon(1e-12));
+  CHECK(value(fd, "time") == Approx(3.0 + value(fd, "load_factor")).epsilon(1e-12));
+  CHECK(value(fd, "head_load_kN") == Approx(load).epsilon(1e-9));
+  CHECK(value(fd, "head_settlement_mm") == Approx(settlement).epsilon(1e-9));
+  // The first data set is the initial state: no stage yet, no head load.
+  const auto first = read(sets.front().second);
+  auto* stage0 = vtkStringArray::SafeDownCast(first->GetFieldData()->GetAbstractArray("stage"));
+  REQUIRE(stage0 != nullptr);
+  CHECK(stage0->GetValue(0) == "initial");
+  CHECK(std::isnan(value(first->GetFieldData(), "head_load_kN")));
+  // Named components: stress xx ... zx; interface traction shear/normal in the point cloud.
+  vtkDataArray* stress = last->GetCellData()->GetArray("stress");
+  REQUIRE(stress != nullptr);
+  REQUIRE(stress->GetComponentName(0) != nullptr);
+  CHECK(std::string(stress->GetComponentName(0)) == "xx");
+  CHECK(std::string(stress->GetComponentName(3)) == "xy");
+  std::string vtp = sets.back().second;
+  vtp.replace(vtp.rfind('_'), 1, "_ip_");
+  vtp.replace(vtp.size() - 4, 4, ".vtp");
+  auto pr = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+  pr->SetFileName((out / vtp).string().c_str());
+  pr->Update();
+  vtkDataArray* tr = pr->GetOutput()->GetPointData()->GetArray("interface_traction");
+  REQUIRE(tr != nullptr);
+  REQUIRE(tr->GetComponentName(1) != nullptr);
+  CHECK(std::string(tr->GetComponentName(0)) == "shear");
+  CHECK(std::string(tr->GetComponentName(1)) == "normal");
+  CHECK(value(pr->GetOutput()->GetFieldData(), "load_factor") == value(fd, "load_factor"));
   fs::remove_all(out);
 }

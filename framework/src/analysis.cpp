@@ -361,8 +361,14 @@ struct Analysis::Impl {
   std::string fingerprint;
   std::vector<FingerprintPart> parts; ///< checked on restart (scene_fingerprint.hpp)
   double time = 0.0;                  ///< output time: stage number - 1 + load factor
-  std::string pile_cells;             ///< [output] pile_cells: curves/axial_force.csv
-  std::string out_dir;                ///< where the run writes (for the interface CSV files)
+  // What the VTK field data of a step says (write_step): the stage running, its step, and the
+  // pile head's load and settlement where a head is monitored (NaN otherwise).
+  std::string stage_name = "initial";
+  int stage_number = 0, stage_step = 0;
+  double last_head_load = std::numeric_limits<double>::quiet_NaN(),
+         last_head_settlement = std::numeric_limits<double>::quiet_NaN();
+  std::string pile_cells; ///< [output] pile_cells: curves/axial_force.csv
+  std::string out_dir;    ///< where the run writes (for the interface CSV files)
 
   void build(const toml::table& root);
   stage::LoadSpec parse_load(const toml::table& t, const std::string& where_ctx,
@@ -1122,6 +1128,12 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   OutputStep out;
   out.time = time;
   out.mesh = &m.mesh;
+  out.texts = {{"stage", stage_name}};
+  out.values = {{"stage_number", stage_number},
+                {"step", stage_step},
+                {"load_factor", m.lambda},
+                {"head_load_kN", last_head_load},
+                {"head_settlement_mm", last_head_settlement}};
   Field disp{"displacement", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
   Field reac{"reaction", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
   for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
@@ -1133,8 +1145,9 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
             m.reactions[d] - m.load_base[d] - m.lambda * m.load_ref[d];
     }
   out.point_fields = {std::move(disp), std::move(reac)};
-  Field stress{"stress", 6, {}}, set_id{"set_id", 1, {}};
-  Field ip_stress{"stress", 6, {}}, ip_strain{"strain", 6, {}}, ip_plastic{"plastic", 1, {}};
+  const std::vector<std::string> voigt{"xx", "yy", "zz", "xy", "yz", "zx"};
+  Field stress{"stress", 6, {}, voigt}, set_id{"set_id", 1, {}};
+  Field ip_stress{"stress", 6, {}, voigt}, ip_strain{"strain", 6, {}, voigt}, ip_plastic{"plastic", 1, {}};
   // Named history components (Material::history_names()): one scalar field per name over all
   // integration points; NaN where a domain's material has no component of that name.
   std::vector<Field> ip_history;
@@ -1311,6 +1324,9 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
                                std::vector<std::array<double, 3>>& axial_rows) {
   using stage::Action;
   stage::Stage& st = stages[k];
+  stage_name = st.name;
+  stage_number = static_cast<int>(k) + 1;
+  stage_step = 0;
   Model& m = model;
   m.prescribed = k == 0 ? initial_prescribed : Eigen::VectorXd::Zero(m.u.size());
   m.prescribed_base = m.u;
@@ -1416,6 +1432,8 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     if (!has_head) return;
     const double load = head_load();
     summary.load_settlement.push_back({load, 1e3 * mean_settlement(m, head_nodes)});
+    last_head_load = load;
+    last_head_settlement = summary.load_settlement.back()[1];
     if (pile) {
       if (!components) {
         std::vector<std::size_t> itf;
@@ -1495,13 +1513,14 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     f_prev = m.reactions;
     stepped = true;
     step = rec.step;
+    stage_step = step;
     ++summary.steps_done;
     time = static_cast<double>(k) + m.lambda;
     if (options.on_step) options.on_step(step, nominal_steps, m.lambda, rep);
     if (options.on_record) options.on_record(rec);
+    record(); // first: the step's VTK field data carries the head load it records
     written = writer && st.vtk && step % st.every == 0;
     if (written) timed(summary.times.output, [&] { write_step(*writer, time); });
-    record();
     for (auto& r : recorders) r.sample(m, static_cast<int>(k) + 1, step, m.lambda, rec.iterations);
     live.push_back(rec);
     live.back().stage = static_cast<int>(k) + 1;

@@ -131,7 +131,8 @@ void write_interface_csv(const std::vector<InterfacePoint>& points, const std::s
 }
 
 void append_interface_fields(const Model& model, std::vector<Field>& ip_fields) {
-  Field tr{"interface_traction", 2, {}}, jump{"interface_jump", 2, {}}, status{"interface_status", 1, {}};
+  Field tr{"interface_traction", 2, {}, {"shear", "normal"}},
+      jump{"interface_jump", 2, {}, {"slip", "opening"}}, status{"interface_status", 1, {}};
   for (const auto& dm : model.domains) {
     if (!dm.law.contact) {
       std::size_t n = 0;

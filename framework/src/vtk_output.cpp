@@ -15,11 +15,13 @@
 #include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
 #include <vtkExecutive.h>
+#include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -240,7 +242,32 @@ vtkSmartPointer<vtkDoubleArray> make_array(const Field& f) {
   a->SetNumberOfTuples(tuples);
   if (!f.values.empty())
     std::copy(f.values.begin(), f.values.end(), a->WritePointer(0, a->GetNumberOfValues()));
+  for (std::size_t c = 0; c < f.component_names.size() && c < static_cast<std::size_t>(f.components); ++c)
+    a->SetComponentName(static_cast<vtkIdType>(c), f.component_names[c].c_str());
   return a;
+}
+
+/// The step's field data: one-tuple arrays (ParaView: "Field Data").
+void add_field_data(vtkDataObject& data, const OutputStep& step, double time) {
+  vtkFieldData* fd = data.GetFieldData();
+  {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName("time");
+    a->InsertNextValue(time);
+    fd->AddArray(a);
+  }
+  for (const auto& [name, v] : step.values) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name.c_str());
+    a->InsertNextValue(v);
+    fd->AddArray(a);
+  }
+  for (const auto& [name, v] : step.texts) {
+    vtkNew<vtkStringArray> a;
+    a->SetName(name.c_str());
+    a->InsertNextValue(v);
+    fd->AddArray(a);
+  }
 }
 
 /// Points with z = 0 from n 2-D coordinates given by `xy(i, c)`.
@@ -307,7 +334,7 @@ int vtk_cell(const Cell& c, int index, std::size_t num_nodes, unsigned char& typ
   return n;
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> make_grid(const OutputStep& step) {
+vtkSmartPointer<vtkUnstructuredGrid> make_grid(const OutputStep& step, double time) {
   const Mesh& mesh = *step.mesh;
   const auto num_nodes = static_cast<vtkIdType>(mesh.nodes.size());
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
@@ -348,10 +375,11 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const OutputStep& step) {
 
   for (const Field& f : step.point_fields) grid->GetPointData()->AddArray(make_array(f));
   for (const Field& f : step.cell_fields) grid->GetCellData()->AddArray(make_array(f));
+  add_field_data(*grid, step, time);
   return grid;
 }
 
-vtkSmartPointer<vtkPolyData> make_point_cloud(const OutputStep& step) {
+vtkSmartPointer<vtkPolyData> make_point_cloud(const OutputStep& step, double time) {
   const auto n = static_cast<vtkIdType>(step.ip_coords.rows());
   auto cloud = vtkSmartPointer<vtkPolyData>::New();
   cloud->SetPoints(make_points(n, [&](vtkIdType i, int c) { return step.ip_coords(i, c); }));
@@ -372,6 +400,7 @@ vtkSmartPointer<vtkPolyData> make_point_cloud(const OutputStep& step) {
   cloud->SetVerts(verts);
 
   for (const Field& f : step.ip_fields) cloud->GetPointData()->AddArray(make_array(f));
+  add_field_data(*cloud, step, time);
   return cloud;
 }
 
@@ -386,6 +415,8 @@ std::string VtkSeriesWriter::pvd_path() const { return (fs::path(dir_) / (stem_ 
 
 void VtkSeriesWriter::write(const OutputStep& step) {
   if (step.mesh == nullptr) throw Error("VTK output: output step without a mesh");
+  // Strictly increasing times: ParaView shows one data set per time value.
+  const double time = !times_.empty() && !(step.time > times_.back()) ? times_.back() + 1e-6 : step.time;
   const Mesh& mesh = *step.mesh;
 
   // Validate everything before touching the disk.
@@ -407,13 +438,13 @@ void VtkSeriesWriter::write(const OutputStep& step) {
   const std::string vtp_name = stem_ + "_ip_" + std::to_string(k) + ".vtp";
 
   {
-    auto grid = make_grid(step);
+    auto grid = make_grid(step, time);
     vtkNew<vtkXMLUnstructuredGridWriter> writer;
     write_vtk(*writer, grid, dir / vtu_name);
   }
 
   if (num_ip > 0) {
-    auto cloud = make_point_cloud(step);
+    auto cloud = make_point_cloud(step, time);
     vtkNew<vtkXMLPolyDataWriter> writer;
     write_vtk(*writer, cloud, dir / vtp_name);
   } else {
@@ -425,7 +456,7 @@ void VtkSeriesWriter::write(const OutputStep& step) {
   // Collections of every step so far (this one included).
   std::vector<std::pair<double, std::string>> grids, clouds;
   for (std::size_t i = 0; i <= k; ++i) {
-    const double t = i < k ? times_[i] : step.time;
+    const double t = i < k ? times_[i] : time;
     grids.emplace_back(t, stem_ + "_" + std::to_string(i) + ".vtu");
     std::string cloud = stem_ + "_ip_" + std::to_string(i) + ".vtp";
     std::error_code ec;
@@ -439,7 +470,7 @@ void VtkSeriesWriter::write(const OutputStep& step) {
     remove_file(ip_pvd);
   }
 
-  times_.push_back(step.time);
+  times_.push_back(time);
 }
 
 } // namespace stratum

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace stratum {
@@ -18,11 +19,21 @@ struct Field {
   std::string name;
   int components = 1;
   std::vector<double> values;
+  /// Optional names of the components as ParaView shows them (e.g. "shear", "normal");
+  /// empty: VTK's defaults (X, Y, Z / 0, 1, ...).
+  std::vector<std::string> component_names = {};
 };
 
 /// What one output step contains.
 struct OutputStep {
-  double time = 0.0; ///< stage time / load factor shown by ParaView
+  /// The time ParaView shows: stage number - 1 + load factor. The writer keeps the series
+  /// strictly increasing: a state written again at the same time (e.g. after
+  /// reset_displacements) follows at the previous time + 1e-6.
+  double time = 0.0;
+  /// Field data of the step (one value each, on the .vtu and the .vtp): e.g. stage_number, step,
+  /// load_factor, head_load_kN; and text values, e.g. stage.
+  std::vector<std::pair<std::string, double>> values = {};
+  std::vector<std::pair<std::string, std::string>> texts = {};
   const Mesh* mesh = nullptr;
   std::vector<int> cells;          ///< the cells to write (active cells)
   std::vector<Field> point_fields; ///< one tuple per mesh node (e.g. "displacement", 3 comps)
