@@ -424,14 +424,15 @@ int run(const std::vector<std::string>& args, bool check_only) {
     ratio << std::setprecision(3) << s.stiffness_ratio;
     if (s.stop_reason == "collapse")
       std::cout << "stopped: collapse: a load step found no equilibrium after its cut-backs, and the "
-                   "structure had lost its stiffness (the last converged step's is "
-                << ratio.str() << " of the stage's first); the table ends at the last converged level\n";
+                   "structure had lost its stiffness (over the last tenth of the load, down to "
+                << ratio.str()
+                << " of the stage's first step's); the table ends at the last converged level\n";
     else
       std::cout << "stopped: numerical failure: a load step did not converge after its cut-backs "
-                   "although the structure was still stiff (the last converged step's stiffness is "
+                   "although the structure was still stiff (over the last tenth of the load, at least "
                 << ratio.str()
-                << " of the stage's first): this is not a collapse load; the table ends at the last "
-                   "converged level (see diagnostics.csv)\n";
+                << " of the stage's first step's stiffness): this is not a collapse load; the table ends at "
+                   "the last converged level (see diagnostics.csv)\n";
     // The failed step's message (its residual may be NaN) is a diagnostic, not a result: stderr.
     std::cerr << "stratum: the step that stopped the run: " << s.stop_message << "\n";
   } else if (s.stop_reason == "settlement")

@@ -964,9 +964,10 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
   s.boolean("until_failure", "a step failing after its cut-backs ends the run normally (loading to failure)")
       .defaults_to(false);
   s.real("collapse_stiffness", "-",
-         "with until_failure: the stop counts as a collapse when the current stiffness of the last "
-         "converged step (Bergan's parameter: dlambda / (F_ref . du) under load control) is below "
-         "this fraction of the stage's first step; otherwise it is a numerical failure (exit 4)")
+         "with until_failure: the stop counts as a collapse when the least current stiffness of the "
+         "steps over the last tenth of the load reached (Bergan's parameter: dlambda / (F_ref . du) "
+         "under load control) is below this fraction of the stage's first step; otherwise it is a "
+         "numerical failure (exit 4)")
       .greater_than(0)
       .at_most(1)
       .defaults_to(0.1);
@@ -1491,7 +1492,8 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   // of the prescribed nodes). A stop counts as a collapse where it has fallen below
   // collapse_stiffness (negative: the path has turned).
   Eigen::VectorXd u_prev = m.u, f_prev = f0;
-  double lambda_prev = 0.0, stiffness_first = 0.0, stiffness_last = 0.0;
+  double lambda_prev = 0.0, stiffness_first = 0.0;
+  std::vector<std::array<double, 2>> stiffness_path; // (lambda, S) of each accepted step
   const bool load_controlled = m.load_ref.squaredNorm() > 0.0;
   cb.accepted = [&](const StepRecord& rec, const StepReport& rep, const Eigen::VectorXd& x) {
     m.lambda = rec.lambda;
@@ -1506,7 +1508,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
         kq = (m.u - u_prev).dot(m.reactions - f_prev) / (dl * dl);
       }
       if (stiffness_first == 0.0) stiffness_first = kq;
-      stiffness_last = kq;
+      stiffness_path.push_back({m.lambda, kq});
     }
     lambda_prev = m.lambda;
     u_prev = m.u;
@@ -1547,7 +1549,14 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   if (!res.outcome.ok()) {
     std::string message = "stage \"" + st.name + "\": " + res.outcome.message;
     if (st.until_failure) {
-      summary.stiffness_ratio = stiffness_first > 0.0 ? stiffness_last / stiffness_first : 1.0;
+      // The least stiffness over the last tenth of the load reached: a single stiff step just
+      // before the stop (a contact closing, a point unloading) does not hide that the curve
+      // had flattened (the Class-C pile: 0.72 on its last step, 0.0x just before).
+      double least = std::numeric_limits<double>::infinity();
+      const double from = 0.9 * lambda_prev;
+      for (const auto& [l, kq] : stiffness_path)
+        if (l >= from) least = std::min(least, kq);
+      summary.stiffness_ratio = stiffness_first > 0.0 && std::isfinite(least) ? least / stiffness_first : 1.0;
       const bool collapse = stiffness_first > 0.0 && summary.stiffness_ratio < st.collapse_stiffness;
       summary.stop_reason = collapse ? "collapse" : "numerical";
       summary.stop_message = std::move(message);
