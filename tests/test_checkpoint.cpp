@@ -5,6 +5,8 @@
 #include "checkpoint.hpp"
 
 #include <boost/crc.hpp>
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 
 #include <cstdint>
@@ -34,7 +36,10 @@ Checkpoint sample() {
 }
 
 std::string payload_of(const Checkpoint& c) {
-  const auto path = (std::filesystem::temp_directory_path() / "stratum_test_checkpoint.ckpt").string();
+  // One file per process: CTest runs these cases in parallel processes.
+  const auto path = (std::filesystem::temp_directory_path() /
+                     ("stratum_test_checkpoint_" + std::to_string(::getpid()) + ".ckpt"))
+                        .string();
   write_checkpoint(path, c);
   std::ifstream in(path, std::ios::binary);
   std::stringstream ss;
