@@ -324,12 +324,6 @@ std::vector<const toml::table*> table_list(const toml::table& root, std::string_
   return v;
 }
 
-template <class Map> std::string key_list(const Map& m, std::string_view name = {}) {
-  std::string s;
-  for (const auto& [k, v] : m) s += (s.empty() ? "" : ", ") + k;
-  return (s.empty() ? "(none)" : s) + (name.empty() ? "" : did_you_mean(name, m));
-}
-
 } // namespace
 
 struct Analysis::Impl {

@@ -1,5 +1,6 @@
 #include "recorders.hpp"
 
+#include "stratum/suggest.hpp"
 #include "toml_check.hpp"
 
 #include <algorithm>
@@ -27,12 +28,6 @@ const std::vector<std::string>& allowed(const std::string& kind) {
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
-
-std::string known_sets(const std::map<std::string, std::vector<int>>& sets) {
-  std::string s;
-  for (const auto& [k, v] : sets) s += (s.empty() ? "" : ", ") + k;
   return s;
 }
 
@@ -66,7 +61,7 @@ Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& mo
     if (it == model.mesh.node_sets.end())
       throw Error(p.where("set"),
                   ctx + " set = \"" + set_ +
-                      "\" is not a node or edge set of the mesh; known: " + known_sets(model.mesh.node_sets));
+                      "\" is not a node or edge set of the mesh; known: " + key_list(model.mesh.node_sets));
     nodes_ = it->second;
   } else if (!set_.empty()) {
     throw Error(p.where("set"), ctx + " set acts only for kind = \"nodes\"");

@@ -37,4 +37,12 @@ requires(!std::is_convertible_v<const Range&, const std::vector<std::string_view
   return did_you_mean(name, v);
 }
 
+/// The keys of a map keyed by name, comma-separated ("(none)" when empty), for "known: ..." in
+/// messages; with `name`, followed by did_you_mean(name, ...).
+template <class Map> std::string key_list(const Map& m, std::string_view name = {}) {
+  std::string s;
+  for (const auto& [k, v] : m) s += (s.empty() ? "" : ", ") + k;
+  return (s.empty() ? "(none)" : s) + (name.empty() ? "" : did_you_mean(name, m));
+}
+
 } // namespace stratum
