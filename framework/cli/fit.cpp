@@ -13,6 +13,7 @@
 
 #include "stratum/calibration.hpp"
 #include "stratum/error.hpp"
+#include "stratum/files.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -145,7 +146,7 @@ int fit(const std::vector<std::string>& args) {
     std::cout << text;
     return 0;
   }
-  cal::write_file_atomically(out, text);
+  stratum::write_file_atomically(out, text);
   std::istringstream lines(text);
   for (std::string l; std::getline(lines, l);)
     if (l.rfind("#   ", 0) == 0 || l.rfind("# note", 0) == 0) std::cerr << l << "\n";

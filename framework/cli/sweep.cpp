@@ -11,6 +11,7 @@
 // by an MPI launcher; otherwise everything runs in this one process.
 #include "sweep.hpp"
 
+#include "stratum/files.hpp"
 #include "stratum/sweep.hpp"
 
 #ifdef STRATUM_HAVE_MPI
@@ -210,18 +211,6 @@ private:
   int fd_ = -1;
   std::map<std::size_t, std::string> rows_;
 };
-
-void write_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.parent_path() / ("." + path.filename().string() + ".tmp");
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw Error("cannot write '" + tmp.string() + "'");
-  write_all(fd, text, tmp.string());
-  ::fsync(fd);
-  ::close(fd);
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw Error("cannot write '" + path.string() + "': " + ec.message());
-}
 
 std::string duration_text(double s) {
   char buf[48];
@@ -434,7 +423,7 @@ int manager(const Study& study, const fs::path& out, [[maybe_unused]] const MpiS
     const std::string s = status_of(row);
     (s == "converged" ? converged : s == "stopped" ? stopped : failed) += 1;
   }
-  write_atomically(out / "samples.csv", csv);
+  stratum::write_file_atomically((out / "samples.csv").string(), csv);
   std::cout << "done: " << total << " samples (" << converged << " converged, " << stopped << " stopped, "
             << failed << " failed), " << counts[0] + counts[1] + counts[2] << " run now on " << mpi.size()
             << (mpi.size() == 1 ? " process" : " processes")

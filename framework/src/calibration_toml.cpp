@@ -1,17 +1,14 @@
-// Calibration: the fitted parameters as a TOML fragment with the residuals as comments, and
-// writing it without leaving a half-written file (stratum/calibration.hpp).
+// Calibration: the fitted parameters as a TOML fragment with the residuals as comments
+// (stratum/calibration.hpp).
 #include "stratum/calibration.hpp"
 
 #include "calibration_detail.hpp"
 #include "stratum/error.hpp"
 
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace stratum::calibration {
 
-namespace fs = std::filesystem;
 using detail::fmt;
 
 // ================================================================ output
@@ -117,29 +114,6 @@ std::string to_toml(const InterfaceFit& f, const std::string& header) {
     << "gamma_w = " << tnum(gamma_w) << "\n"
     << "p_a = " << tnum(p_a) << "\n";
   return o.str();
-}
-
-void write_file_atomically(const std::string& path, const std::string& text) {
-  const fs::path final_path(path);
-  if (final_path.has_parent_path()) fs::create_directories(final_path.parent_path());
-  const fs::path tmp = final_path.parent_path() / ("." + final_path.filename().string() + ".tmp");
-  {
-    std::ofstream o(tmp);
-    if (!o) throw Error("cannot write '" + path + "'");
-    o << text;
-    o.flush();
-    if (!o) {
-      o.close();
-      fs::remove(tmp);
-      throw Error("cannot write '" + path + "'");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, final_path, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw Error("cannot write '" + path + "': " + ec.message());
-  }
 }
 
 } // namespace stratum::calibration

@@ -1,5 +1,6 @@
 #include "stratum/point_driver.hpp"
 
+#include "stratum/files.hpp"
 #include "stratum/registry.hpp"
 #include "toml_check.hpp"
 
@@ -276,12 +277,8 @@ PointRun PointDriver::run() const {
 }
 
 void PointDriver::write_csv(const PointRun& run, const std::string& path) {
-  const fs::path final_path(path);
-  if (final_path.has_parent_path()) fs::create_directories(final_path.parent_path());
-  const fs::path tmp = final_path.parent_path() / ("." + final_path.filename().string() + ".tmp");
+  std::ostringstream o;
   {
-    std::ofstream o(tmp);
-    if (!o) throw Error("cannot write '" + path + "'");
     o << "step,path,eps_xx,eps_yy,eps_zz,gamma_xy,gamma_yz,gamma_zx,sig_xx,sig_yy,sig_zz,sig_xy,sig_yz,sig_"
          "zx,"
          "eps_axial,eps_vol,p_kPa,q_kPa\n";
@@ -298,14 +295,8 @@ void PointDriver::write_csv(const PointRun& run, const std::string& path) {
       o << ',' << (0.0 - r.strain[axial]) << ',' << (0.0 - (r.strain[0] + r.strain[1] + r.strain[2])) << ','
         << p + 0.0 << ',' << q << '\n';
     }
-    if (!o) throw Error("cannot write '" + path + "'");
   }
-  std::error_code ec;
-  fs::rename(tmp, final_path, ec);
-  if (ec) {
-    fs::remove(tmp);
-    throw Error("cannot write '" + path + "': " + ec.message());
-  }
+  write_file_atomically(path, o.str());
 }
 
 } // namespace stratum

@@ -1,5 +1,7 @@
 #include "stratum/step_control.hpp"
 
+#include "stratum/files.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -269,12 +271,8 @@ StageResult run_stage(NonlinearProblem& problem, const Solver& solver, const Ste
 }
 
 void write_step_records(const std::string& path, const std::vector<StepRecord>& records) {
-  namespace fs = std::filesystem;
-  const fs::path p(path);
-  const fs::path tmp = p.parent_path() / ("." + p.filename().string() + ".tmp");
-  if (!p.parent_path().empty()) fs::create_directories(p.parent_path()); // no VTK: nothing made it yet
+  std::ostringstream out;
   {
-    std::ofstream out(tmp, std::ios::binary);
     out << "stage,step,accepted,lambda_n,lambda,iterations,factorizations,first_residual,last_residual,order,"
            "contraction,seconds,cutbacks,arc_length,residuals,message\n";
     out << std::setprecision(10);
@@ -289,11 +287,8 @@ void write_step_records(const std::string& path, const std::vector<StepRecord>& 
       std::replace(msg.begin(), msg.end(), '"', '\'');
       out << ",\"" << msg << "\"\n";
     }
-    if (!out) throw Error("cannot write '" + tmp.string() + "'");
   }
-  std::error_code ec;
-  fs::rename(tmp, p, ec);
-  if (ec) throw Error("cannot rename '" + tmp.string() + "' to '" + p.string() + "': " + ec.message());
+  write_file_atomically(path, out.str()); // creates the folder: without VTK nothing made it yet
 }
 
 } // namespace stratum

@@ -120,7 +120,4 @@ struct ContactOptions {
 [[nodiscard]] std::string to_toml(const ContactFit& fit, const std::string& header);
 [[nodiscard]] std::string to_toml(const InterfaceFit& fit, const std::string& header);
 
-/// Writes `text` to `path` atomically (a temporary file in the same directory, then rename).
-void write_file_atomically(const std::string& path, const std::string& text);
-
 } // namespace stratum::calibration
