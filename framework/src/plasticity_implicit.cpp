@@ -183,6 +183,9 @@ struct NewtonResult {
   NewtonStatus status = NewtonStatus::not_converged;
   int iterations = 0;
   double fmax = 0.0, tol = 0.0; ///< largest |f| of the active surfaces and its tolerance, at the end
+  /// The residual furthest outside its tolerance at the end: what it is, its value, its tolerance.
+  std::string worst_what;
+  double worst = 0.0, worst_tol = 0.0;
 };
 
 /// Newton with backtracking on the tolerance-weighted residual norm.
@@ -205,7 +208,16 @@ NewtonResult newton(const Context& c, const ImplicitSystem& sys, const std::vect
       out.status = NewtonStatus::converged;
       return out;
     }
-    if (it >= c.settings.max_iterations) return out;
+    if (it >= c.settings.max_iterations) {
+      Eigen::Index w = 0;
+      (R.cwiseAbs().cwiseQuotient(tol)).maxCoeff(&w);
+      out.worst = std::abs(R[w]), out.worst_tol = tol[w];
+      const auto wi = static_cast<int>(w);
+      out.worst_what = wi < 6          ? "stress residual " + std::to_string(wi)
+                       : wi < 6 + c.nq ? "internal-variable residual " + std::to_string(wi - 6)
+                                       : "yield function of surface " + std::to_string(active[wi - 6 - c.nq]);
+      return out;
+    }
     ScaledLU lu;
     if (!lu.factor(J)) {
       out.status = NewtonStatus::singular;
@@ -339,7 +351,8 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
       const std::string why = "no convergence after " + std::to_string(nr.iterations) +
                               " iterations (max_iterations = " + std::to_string(c.settings.max_iterations) +
                               "), |f| = " + num(nr.fmax) + " (tolerance " + num(nr.tol) +
-                              "), active surfaces " + set_str(active);
+                              "); furthest from " + "convergence: " + nr.worst_what + " = " + num(nr.worst) +
+                              " (tolerance " + num(nr.worst_tol) + "), active surfaces " + set_str(active);
       if (na < 2) return fail(c, Status::material_failure, why);
       const Outcome o = exhaustive(why, x);
       if (!o.ok()) return o;
