@@ -326,7 +326,8 @@ int point(const std::vector<std::string>& args) {
   PointDriver::write_csv(r, out); // what was computed is kept, also after a failure
   if (!r.outcome.ok()) {
     std::cerr << "stratum: " << file << ": " << to_string(r.outcome.status) << ": " << r.outcome.message
-              << "\n";
+              << "\nstratum: " << out << " holds the " << r.rows.size() - 1
+              << " steps before the failure (row 0: the initial state)\n";
     return 2;
   }
   std::cout << "done: " << r.rows.size() - 1 << " steps\nresults: " << out << "\n";
