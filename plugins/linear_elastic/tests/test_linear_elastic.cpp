@@ -1,6 +1,6 @@
 // Tests of the linear elastic material (plugins/linear_elastic): isotropic and
 // cross-anisotropic stiffness, the update, and rejection of inadmissible constants.
-#include "../plugins/linear_elastic/elastic_math.hpp"
+#include "linear_elastic/elastic_math.hpp"
 
 #include <catch2/catch.hpp>
 

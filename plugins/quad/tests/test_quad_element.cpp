@@ -1,9 +1,9 @@
 // Tests of the variable-node quadrilateral element (plugins/quad): shape functions,
 // Gauss rules, stiffness null space, consistent tangent, patch tests, body forces,
 // volumetric locking and failure reporting.
-#include "../plugins/linear_elastic/elastic_math.hpp"
-#include "../plugins/quad/quad_element.hpp"
-#include "../plugins/quad/quad_math.hpp"
+#include "linear_elastic/elastic_math.hpp"
+#include "quad/quad_element.hpp"
+#include "quad/quad_math.hpp"
 
 #include <catch2/catch.hpp>
 

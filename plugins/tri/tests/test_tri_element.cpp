@@ -2,8 +2,8 @@
 // the stiffness null space and tangent of one cell, the cell-topology check, and through the
 // whole pipeline on Gmsh meshes the patch test (3- and 6-node, mixed with quadrangles; both
 // kinematics) and the Lamé thick cylinder against its closed form (catalogue E1).
-#include "../plugins/linear_elastic/elastic_math.hpp"
-#include "../plugins/tri/tri_element.hpp"
+#include "linear_elastic/elastic_math.hpp"
+#include "tri/tri_element.hpp"
 #include "scene_helpers.hpp"
 
 #include "stratum/mesh_io.hpp"
