@@ -1223,12 +1223,7 @@ Analysis::~Analysis() = default;
 
 std::unique_ptr<Analysis> Analysis::from_string(const std::string& text, const std::string& path,
                                                 RunOptions options) {
-  toml::table root;
-  try {
-    root = toml::parse(text, path);
-  } catch (const toml::parse_error& e) {
-    throw Error(io::location(e.source()), "malformed TOML: " + std::string(e.description()));
-  }
+  toml::table root = io::parse_with_includes(text, path);
   auto impl = std::make_unique<Impl>();
   impl->path = path;
   impl->options = std::move(options);

@@ -123,12 +123,7 @@ std::unique_ptr<PointDriver> PointDriver::from_file(const std::string& path, std
 
 std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, const std::string& path,
                                                       std::vector<std::string> dirs) {
-  toml::table root;
-  try {
-    root = toml::parse(text, path);
-  } catch (const toml::parse_error& e) {
-    throw Error(io::location(e.source()), "malformed TOML: " + std::string(e.description()));
-  }
+  toml::table root = io::parse_with_includes(text, path);
   for (auto&& [key, value] : root)
     if (key.str() != "title" && key.str() != "material" && key.str() != "initial" && key.str() != "paths")
       throw Error(location(key.source()),

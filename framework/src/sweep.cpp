@@ -89,12 +89,7 @@ Study Study::from_file(const std::string& path) {
 }
 
 Study Study::from_string(const std::string& text_in, const std::string& path) {
-  toml::table root;
-  try {
-    root = toml::parse(text_in, path);
-  } catch (const toml::parse_error& e) {
-    throw Error(location(e.source()), "malformed TOML: " + std::string(e.description()));
-  }
+  toml::table root = io::parse_with_includes(text_in, path);
   only_keys(root, {"study", "fixed", "parameters", "quantities"}, "study file:");
   Study st;
   st.path_ = path;
@@ -148,11 +143,7 @@ Study Study::from_string(const std::string& text_in, const std::string& path) {
 
   // The base file with the fixed settings (and one element-loop thread per sample) applied.
   auto base = std::make_shared<Base>();
-  try {
-    base->root = toml::parse(base_text, st.base_path_);
-  } catch (const toml::parse_error& e) {
-    throw Error(location(e.source()), "malformed TOML: " + std::string(e.description()));
-  }
+  base->root = io::parse_with_includes(base_text, st.base_path_);
   if (!st.point_) {
     toml::value<int64_t> t(threads);
     if (!base->root.get("analysis")) base->root.insert("analysis", toml::table{});

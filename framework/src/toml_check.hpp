@@ -13,6 +13,18 @@
 
 namespace stratum::io {
 
+/// Parses a scene (or study, or point) file: malformed TOML is a located error, and a top-level
+/// `include = "file.toml"` or `include = ["a.toml", "b.toml"]` (paths relative to the including
+/// file) merges those files' tables first, then this file's on top (toml_include.cpp):
+/// - tables merge key by key, at any depth ([materials.soil] from one file, [materials.pile]
+///   from another);
+/// - a value this file sets replaces the included one (one parameter changed for one scene);
+/// - the same value in two included files, or an array of tables ([[stages]]) written both in an
+///   include and in the including file, is an error naming both places;
+/// - includes nest; a cycle is an error. Every value keeps its own file:line:col for messages.
+/// File names written as values (a Gmsh mesh, a UMAT library) stay relative to the file that is run.
+[[nodiscard]] toml::table parse_with_includes(const std::string& text, const std::string& path);
+
 [[nodiscard]] SourceLocation location(const toml::source_region& r);
 [[nodiscard]] SourceLocation location(const toml::node& n);
 /// The value as written, for messages: 0.7, "abc", [1, 2], true, {...}.

@@ -1,0 +1,108 @@
+// Parsing TOML input files with `include` (toml_check.hpp, parse_with_includes).
+//
+// Values are moved, never copied, from the included tables into the result: toml++ keeps a
+// node's source position on a move and drops it on a copy, and every later message needs it.
+#include "toml_check.hpp"
+
+#include "stratum/error.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace stratum::io {
+
+namespace {
+
+toml::table parse_text(const std::string& text, const std::string& path) {
+  try {
+    return toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw Error(location(e.source()), "malformed TOML: " + std::string(e.description()));
+  }
+}
+
+std::string where(const toml::node& n) {
+  const SourceLocation l = location(n);
+  return l.file + ":" + std::to_string(l.line) + ":" + std::to_string(l.column);
+}
+
+/// Moves every value of `src` into `dst`. `src_wins`: a value in both is taken from `src` (the
+/// including file over its includes); otherwise it is an error (two includes).
+void merge(toml::table& dst, toml::table&& src, bool src_wins, const std::string& context) {
+  for (auto&& [key, value] : src) {
+    const std::string name =
+        context.empty() ? std::string(key.str()) : context + "." + std::string(key.str());
+    toml::node* old = dst.get(key.str());
+    if (!old) {
+      value.visit([&](auto&& v) {
+        dst.insert(toml::key(key), std::move(v));
+      });
+      continue;
+    }
+    if (old->is_table() && value.is_table()) {
+      merge(*old->as_table(), std::move(*value.as_table()), src_wins, name);
+      continue;
+    }
+    const bool tables_array = (old->is_array_of_tables() || value.is_array_of_tables());
+    if (!src_wins || tables_array)
+      throw Error(location(value),
+                  "'" + name + "' is set here and at " + where(*old) +
+                      (tables_array ? " (an array of tables, [[" + name + "]], is written in one file only)"
+                                    : " (two included files may not set the same value)"));
+    value.visit([&](auto&& v) {
+      dst.insert_or_assign(toml::key(key), std::move(v));
+    });
+  }
+}
+
+toml::table resolve(toml::table root, const std::string& path, std::vector<std::string>& chain) {
+  const toml::node* inc = root.get("include");
+  if (!inc) return root;
+  std::vector<const toml::node*> files;
+  if (inc->is_string()) {
+    files.push_back(inc);
+  } else if (const auto* a = inc->as_array(); a && !a->empty()) {
+    for (const auto& e : *a) {
+      if (!e.is_string())
+        throw Error(location(e), "include entries must be file names (strings), found " + show(e));
+      files.push_back(&e);
+    }
+  } else {
+    throw Error(location(*inc), "include = " + show(*inc) +
+                                    "; allowed: a file name or a non-empty array of file names, e.g. "
+                                    "include = \"../materials/loess.toml\"");
+  }
+  toml::table merged;
+  const fs::path base = fs::path(path).parent_path();
+  for (const toml::node* f : files) {
+    const std::string name = f->as_string()->get();
+    const fs::path file = fs::path(name).is_absolute() ? fs::path(name) : base / name;
+    const std::string key = fs::weakly_canonical(file).string();
+    for (const auto& c : chain)
+      if (c == key) throw Error(location(*f), "include '" + name + "' includes itself (a cycle of includes)");
+    std::ifstream in(file, std::ios::binary);
+    if (!in || fs::is_directory(file))
+      throw Error(location(*f), "cannot open the included file '" + file.string() + "'");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    chain.push_back(key);
+    toml::table child = resolve(parse_text(ss.str(), file.string()), file.string(), chain);
+    chain.pop_back();
+    merge(merged, std::move(child), false, "");
+  }
+  root.erase("include");
+  merge(merged, std::move(root), true, "");
+  return merged;
+}
+
+} // namespace
+
+toml::table parse_with_includes(const std::string& text, const std::string& path) {
+  std::vector<std::string> chain{fs::weakly_canonical(fs::path(path)).string()};
+  return resolve(parse_text(text, path), path, chain);
+}
+
+} // namespace stratum::io
