@@ -205,10 +205,11 @@ def mesh_polygons(grid):
     polys = []
     for c in range(grid.GetNumberOfCells()):
         cell = grid.GetCell(c)
-        n = cell.GetNumberOfPoints()
-        t = cell.GetCellType()
-        corners = {9: 4, 23: 4, 5: 3, 22: 3}.get(t, n)  # quad, quadratic quad, tri, quadratic tri
-        ids = [cell.GetPointId(k) for k in range(corners)]
+        ids = []
+        for e in range(cell.GetNumberOfEdges()):  # boundary order; a quadratic edge is (a, b, mid)
+            edge = cell.GetEdge(e)
+            n = edge.GetNumberOfPoints()
+            ids += [edge.GetPointId(0)] + ([edge.GetPointId(2)] if n == 3 else [])
         xs = [pts[i, 0] for i in ids]
         ys = [pts[i, 1] for i in ids]
         polys.append((xs, ys, int(dom.GetTuple1(c)) if dom is not None else -1))
@@ -270,10 +271,11 @@ def render(a):
     if a.ylim:
         ylim = tuple(a.ylim)
     w, h = xlim[1] - xlim[0], ylim[1] - ylim[0]
-    plot_h = 6.5
+    plot_h = 8.0 if h > 1.5 * w else 6.5
     plot_w = min(max(plot_h * w / h, 2.5), 9.0)
-    fig = plt.figure(figsize=(plot_w + 3.6, plot_h + 1.2), dpi=a.dpi)
-    ax = fig.add_axes([0.75 / (plot_w + 3.6), 0.7 / (plot_h + 1.2), plot_w / (plot_w + 3.6), plot_h / (plot_h + 1.2)])
+    W, H = plot_w + 4.2, plot_h + 1.5
+    fig = plt.figure(figsize=(W, H), dpi=a.dpi)
+    ax = fig.add_axes([0.8 / W, 0.65 / H, plot_w / W, plot_h / H])
     if polys:
         ax.add_collection(PolyCollection([list(zip(p[0], p[1])) for p in polys], facecolors="none",
                                          edgecolors="#b0b0b0", linewidths=0.35, zorder=1))
@@ -284,7 +286,7 @@ def render(a):
     inside = (xs >= xlim[0]) & (xs <= xlim[1]) & (ys >= ylim[0]) & (ys <= ylim[1])
     n_in = max(int(inside.sum()), 1)
     # Marker area so that the points about tile the window (points^2 of the plot area / count).
-    size = max(2.0, min(60.0, 0.5 * (plot_w * 72) * (plot_h * 72) / n_in))
+    size = max(1.5, min(40.0, 0.18 * (plot_w * 72) * (plot_h * 72) / n_in))
     handles = []
     for label, colour, kind in legend:
         sel = [i for i, l in enumerate(labels) if l == label]
@@ -298,6 +300,8 @@ def render(a):
         ax.scatter(xs[sel], ys[sel], s=size * (1.6 if kind == "interface" else 1.0), c=colour, marker=marker,
                    edgecolors="none", zorder=z)
         count = int(sum(1 for i in sel if inside[i]))
+        if count == 0:
+            continue
         handles.append(Line2D([], [], ls="", marker=marker, markersize=8, markerfacecolor=colour,
                               markeredgecolor="#555555", markeredgewidth=0.4, label=f"{label} ({count})"))
     if pile_idx and box:
@@ -320,8 +324,17 @@ def render(a):
         parts.append(f"head load {hl:.1f} kN")
     if isinstance(hs, float) and math.isfinite(hs):
         parts.append(f"settlement {hs:.2f} mm")
-    fig.suptitle(a.title or f"{stem}: plastic zone", x=0.02, ha="left", fontsize=11, fontweight="bold")
-    fig.text(0.02, 1 - 0.55 / (plot_h + 1.2), ", ".join(parts), fontsize=9, ha="left")
+    fig.text(0.1 / W, 1 - 0.3 / H, a.title or f"{stem}: plastic zone", fontsize=11, fontweight="bold", ha="left",
+             va="center")
+    fig.text(0.1 / W, 1 - 0.6 / H, ", ".join(parts), fontsize=9, ha="left", va="center")
+    for r, text in a.arc or []:
+        import numpy as np
+
+        t = np.linspace(0.0, 2.0 * np.pi, 721)
+        ax.plot(float(r) * np.cos(t), float(r) * np.sin(t), ls="--", color="black", lw=1.0, zorder=5)
+        handles.append(Line2D([], [], ls="--", color="black", lw=1.0, label=text))
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False,
+                  title="regime (integration points in view)", title_fontsize=8, alignment="left")
     if a.vtp:
         write_regime_vtp(data, labels, legend, os.path.join(a.results, f"plastic_zone_{k}.vtp"))
     out = a.output or os.path.join(a.results, f"plastic_zone_{k}.png")
@@ -349,6 +362,8 @@ def arguments(argv=None):
     ap.add_argument("--xlabel")
     ap.add_argument("--ylabel")
     ap.add_argument("--dpi", type=int, default=150)
+    ap.add_argument("--arc", nargs=2, action="append", metavar=("R", "LABEL"),
+                    help="draw a dashed circle of radius R (m) about the origin, e.g. a closed-form plastic radius")
     ap.add_argument("--vtp", action="store_true",
                     help="also write <results>/plastic_zone_<step>.vtp with the point array 'regime' for ParaView")
     return ap.parse_args(argv)
