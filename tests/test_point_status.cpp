@@ -145,9 +145,9 @@ TEST_CASE("point_status: Mohr-Coulomb face, edge, tension cut-off and apex; Tres
     CHECK(std::abs(f_mc(d.stress)) < 1e-8 * 100.0);
     CHECK(d.status() == 1);
   }
-  SECTION("edge: triaxial compression, t1 = t2") {
+  SECTION("edge: isochoric triaxial compression (lateral strains equal), t1 = t2") {
     Driven d(m, isotropic(-100.0));
-    d.path(normal(0.0, -0.05, 0.0), 5);
+    d.path(normal(0.025, -0.05, 0.025), 5);
     const auto t = stratum::principal_tension(d.stress);
     CHECK(t[2] - t[1] < 1e-8 * 100.0);
     CHECK(std::abs(f_mc(d.stress)) < 1e-8 * 100.0);
@@ -180,7 +180,7 @@ TEST_CASE("point_status: Mohr-Coulomb face, edge, tension cut-off and apex; Tres
     CHECK(std::abs(s.stress[3]) == Approx(t.c).epsilon(1e-9)); // tau = c
     CHECK(s.status() == 1);
     Driven e(mt, isotropic(-100.0));
-    e.path(normal(0.0, -0.05, 0.0), 5);
+    e.path(normal(0.025, -0.05, 0.025), 5);
     CHECK(e.stress[0] - e.stress[1] == Approx(2.0 * t.c).epsilon(1e-9)); // t1 - t3 = 2 c
     CHECK(e.status() == 2);
   }
@@ -270,12 +270,16 @@ TEST_CASE("point_status: no-tension model counts the directions cut off", "[poin
   Driven e(m, isotropic(-100.0));
   e.step(normal(1e-5, 0.0, 0.0));
   CHECK(e.status() == 0);
+  // Extension in x with the lateral strains chosen so that the other stresses stay compressive
+  // (K and G scale alike with p: d sigma_yy = (K - 2G/3) de_xx + (K + 4G/3) de_yy + ... < 0).
   Driven one(m, isotropic(-10.0));
-  one.step(normal(0.05, 0.0, 0.0));
+  one.step(normal(0.05, -0.025, -0.025));
   CHECK(one.stress[0] == Approx(0.0).margin(1e-9));
+  CHECK(one.stress[1] < 0.0);
   CHECK(one.status() == 1);
   Driven two(m, isotropic(-10.0));
-  two.step(normal(0.05, 0.05, 0.0));
+  two.step(normal(0.05, 0.05, -0.05));
+  CHECK(two.stress[2] < 0.0);
   CHECK(two.status() == 2);
   Driven three(m, isotropic(-10.0));
   three.step(normal(0.05, 0.05, 0.05));
