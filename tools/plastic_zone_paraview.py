@@ -58,6 +58,14 @@ def write_regimes(a):
     return k, fv, out_vtp, mesh_file, legend, pile_idx, xlim, ylim
 
 
+def set_either(proxy, name, value, older):
+    """Sets a property to `value`, or to `older` where an older ParaView spells it so."""
+    try:
+        setattr(proxy, name, value)
+    except (ValueError, AttributeError):
+        setattr(proxy, name, older)
+
+
 def hex_rgb(h):
     h = h.lstrip("#")
     return [int(h[i:i + 2], 16) / 255.0 for i in (0, 2, 4)]
@@ -115,7 +123,7 @@ def main():
     bar.Title = "regime"
     bar.ComponentTitle = ""
     bar.TitleColor = bar.LabelColor = [0, 0, 0]
-    bar.WindowLocation = "Any Location"
+    set_either(bar, "WindowLocation", "Any Location", "AnyLocation")  # ParaView >= 5.10 / older
     bar.Position = [0.80, 0.35]
     view.AxesGrid.Visibility = 1
     view.AxesGrid.XTitle = "r (m)" if pile_idx else "x (m)"
@@ -131,7 +139,7 @@ def main():
     text = pv.Text(Text=", ".join(parts))
     tr = pv.Show(text, view)
     tr.Color = [0, 0, 0]
-    tr.WindowLocation = "Upper Center"
+    set_either(tr, "WindowLocation", "Upper Center", "UpperCenter")
     view.InteractionMode = "2D"
     cx, cy = 0.5 * (xlim[0] + xlim[1]), 0.5 * (ylim[0] + ylim[1])
     view.CameraFocalPoint = [cx, cy, 0.0]
