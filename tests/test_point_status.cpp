@@ -370,5 +370,28 @@ TEST_CASE("VTK: the plastic field of Hill's cylinder, its domain and regime name
   }
   CHECK(inner > 100);
   CHECK(outer > 10);
+  // tools/plastic_zone.py (matplotlib route) draws it and, with --vtp, writes the categories it
+  // coloured: the legend's labels are the model's names read from the file.
+  const std::string tool = std::string("/usr/bin/python3 ") + STRATUM_SOURCE_DIR + "/tools/plastic_zone.py " +
+                           out.string() + " --step last --vtp -o " + (out / "zone.png").string() + " >> " +
+                           (out.string() + ".log") + " 2>&1";
+  REQUIRE(std::system(tool.c_str()) == 0);
+  CHECK(fs::file_size(out / "zone.png") > 10000);
+  auto z = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+  z->SetFileName((out / ("plastic_zone_" +
+                         last.substr(last.rfind('_') + 1, last.find('.') - last.rfind('_') - 1) + ".vtp"))
+                     .string()
+                     .c_str());
+  z->Update();
+  auto* legend =
+      vtkStringArray::SafeDownCast(z->GetOutput()->GetFieldData()->GetAbstractArray("regime_names"));
+  REQUIRE(legend != nullptr);
+  REQUIRE(legend->GetNumberOfValues() == 2);
+  CHECK(legend->GetValue(0) == "elastic");
+  CHECK(legend->GetValue(1) == "on the yield surface");
+  vtkDataArray* regime = z->GetOutput()->GetPointData()->GetArray("regime");
+  REQUIRE(regime != nullptr);
+  for (vtkIdType i = 0; i < regime->GetNumberOfTuples(); ++i)
+    CHECK(regime->GetTuple1(i) == plastic->GetTuple1(i)); // one model: category = its code
   fs::remove_all(out);
 }

@@ -232,7 +232,13 @@ def pile_box(polys, domains, pile_name):
 
 
 def render(a):
-    import matplotlib
+    try:
+        import matplotlib
+        import vtkmodules  # noqa: F401
+    except ImportError:  # another Python first on PATH: the system one has both (Debian packages)
+        if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3"):
+            os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
+        sys.exit("plastic_zone: needs matplotlib and VTK's Python modules (Debian: python3-matplotlib python3-vtk9)")
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
