@@ -333,6 +333,11 @@ def render(a):
     fig.text(0.1 / W, 1 - 0.3 / H, a.title or f"{stem}: plastic zone", fontsize=11, fontweight="bold", ha="left",
              va="center")
     fig.text(0.1 / W, 1 - 0.6 / H, ", ".join(parts), fontsize=9, ha="left", va="center")
+    for x0, y0, x1, y1, text in a.line or []:
+        ax.plot([float(x0), float(x1)], [float(y0), float(y1)], color="black", lw=4, solid_capstyle="butt", zorder=6)
+        handles.append(Line2D([], [], color="black", lw=4, label=text))
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False,
+                  title="regime (integration points in view)", title_fontsize=8, alignment="left")
     for r, text in a.arc or []:
         import numpy as np
 
@@ -368,6 +373,8 @@ def arguments(argv=None):
     ap.add_argument("--xlabel")
     ap.add_argument("--ylabel")
     ap.add_argument("--dpi", type=int, default=150)
+    ap.add_argument("--line", nargs=5, action="append", metavar=("X0", "Y0", "X1", "Y1", "LABEL"),
+                    help="draw a thick line (m), e.g. a footing")
     ap.add_argument("--arc", nargs=2, action="append", metavar=("R", "LABEL"),
                     help="draw a dashed circle of radius R (m) about the origin, e.g. a closed-form plastic radius")
     ap.add_argument("--vtp", action="store_true",
