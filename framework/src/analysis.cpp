@@ -7,6 +7,7 @@
 #include "scene_fingerprint.hpp"
 #include "scene_interfaces.hpp"
 #include "stage.hpp"
+#include "status_output.hpp"
 #include "stratum/interfaces.hpp"
 #include "stratum/mesh_io.hpp"
 #include "stratum/step_control.hpp"
@@ -1208,6 +1209,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   out.cell_fields = {std::move(stress), std::move(set_id)};
   if (ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain), std::move(ip_plastic)};
   for (auto& f : ip_history) out.ip_fields.push_back(std::move(f));
+  add_status_names(m, out, ip_output); // "domain", "domains", "plastic_regimes_<domain>"
   if (ip_output && !interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
   w.write(out);
   for (const auto& itf : interfaces.interfaces)

@@ -268,6 +268,12 @@ void add_field_data(vtkDataObject& data, const OutputStep& step, double time) {
     a->InsertNextValue(v);
     fd->AddArray(a);
   }
+  for (const auto& [name, list] : step.text_lists) {
+    vtkNew<vtkStringArray> a;
+    a->SetName(name.c_str());
+    for (const auto& v : list) a->InsertNextValue(v);
+    fd->AddArray(a);
+  }
 }
 
 /// Points with z = 0 from n 2-D coordinates given by `xy(i, c)`.

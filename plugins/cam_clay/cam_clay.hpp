@@ -327,6 +327,22 @@ public:
 
   [[nodiscard]] bool symmetric_tangent() const override { return false; }
 
+  /// 0 elastic (inside the yield locus); on it (f >= -1e-6 p_c): 1 hardening, the wet side
+  /// eta = q / p < M (plastic compaction, p_c grows), 2 softening, the dry side eta > M
+  /// (dilation, p_c shrinks), 3 at the critical state |eta - M| <= 1e-3 M (no volume change).
+  [[nodiscard]] int point_status(const Vec6& stress, std::span<const double> h) const override {
+    if (h.empty() || !(h[0] > 0.0)) return -1;
+    const std::array<double, 1> xi{std::log(h[0])};
+    if (model_.yield(0, stress, xi) < -1e-6 * h[0]) return 0;
+    const double M = model_.constants().M, p = pressure(stress), q = plasticity::q_mises(stress);
+    if (std::abs(q - M * p) <= 1e-3 * M * std::abs(p)) return 3;
+    return q < M * p ? 1 : 2;
+  }
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    return {"elastic", "hardening (wet side, q/p < M)", "softening (dry side, q/p > M)",
+            "critical state (q/p = M)"};
+  }
+
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
     const Constants& c = model_.constants();
     auto where = [&] {

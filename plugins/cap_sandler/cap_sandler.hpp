@@ -463,6 +463,9 @@ public:
   [[nodiscard]] int point_status(const Vec6& /*stress*/, std::span<const double> h) const override {
     return static_cast<int>(h[2]);
   }
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    return {"elastic", "tension cut-off", "shear envelope", "corner (envelope and cap)", "cap"};
+  }
 
   /// kappa of the initial cap X0 = Z, widened (normally consolidated) until the cap passes
   /// through the initial stress when that stress lies outside it.

@@ -262,6 +262,19 @@ public:
     return p_.psi == p_.phi && p_.H_c == 0.0;
   }
 
+  /// 0 elastic (inside the cone), 1 on the cone (shear yielding), 2 at the apex (sqrt(J2) = 0 on
+  /// the surface: the mean stress is at K(q) / (3 alpha), tensile failure). "On" within a
+  /// relative 1e-6 of the model's stress scale.
+  [[nodiscard]] int point_status(const Vec6& stress, std::span<const double> h) const override {
+    const std::array<double, 1> q{h.empty() ? 0.0 : h[0]};
+    const double scale = model_.stress_scale(stress, q);
+    if (model_.yield(0, stress, q) < -1e-6 * scale) return 0;
+    return std::sqrt(std::max(0.0, plasticity::j2(stress))) <= 1e-6 * scale ? 2 : 1;
+  }
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    return {"elastic", "shear (on the cone)", "apex (tension)"};
+  }
+
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
     auto where = [&in] {
       return " at element " + std::to_string(in.where.element) + ", point " + std::to_string(in.where.point);

@@ -201,6 +201,9 @@ public:
     if (principal_compression(stress).s3 <= 0.0) return 2;
     return point(stress).S >= 0.99 ? 1 : 0;
   }
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    return {"below failure", "failed (S >= 0.99)", "tension cut-off"};
+  }
 
   /// The tangent of a finite step is not symmetric in general (stress-dependent moduli, recovery).
   [[nodiscard]] bool symmetric_tangent() const override { return false; }

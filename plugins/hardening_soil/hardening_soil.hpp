@@ -681,6 +681,23 @@ public:
   [[nodiscard]] int point_status(const Vec6&, std::span<const double> h) const override {
     return h.size() > slot::status ? static_cast<int>(h[slot::status]) : -1;
   }
+  /// The bitmask names, index = mask: bit 0 shear hardening, 1 Mohr-Coulomb failure, 2 cap,
+  /// 3-5 the tension planes (1, 2, 3 of them active), joined by " + ".
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    std::vector<std::string> names{"elastic"};
+    for (int mask = 1; mask < 64; ++mask) {
+      std::string s;
+      auto add = [&s](const char* part) { s += (s.empty() ? "" : " + ") + std::string(part); };
+      if ((mask & 1) != 0) add("shear hardening");
+      if ((mask & 2) != 0) add("Mohr-Coulomb failure");
+      if ((mask & 4) != 0) add("cap");
+      const int t = ((mask >> 3) & 1) + ((mask >> 4) & 1) + ((mask >> 5) & 1);
+      if (t == 1) add("tension cut-off");
+      if (t > 1) add(t == 3 ? "tension apex" : "tension cut-off (2 planes)");
+      names.push_back(s);
+    }
+    return names;
+  }
 
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
     auto where = [&in] {

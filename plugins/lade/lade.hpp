@@ -189,6 +189,20 @@ public:
   }
   [[nodiscard]] bool symmetric_tangent() const override { return false; }
 
+  /// The active set of the committed increment (history[2]): 0 elastic, 1 cone (shear
+  /// hardening), 2 cap (collapse), 3 cone and cap; 4 cone past its peak (W_cone above W_peak at
+  /// the committed stress: softening), with or without the cap.
+  [[nodiscard]] int point_status(const Vec6& stress, std::span<const double> h) const override {
+    if (h.size() < 3) return -1;
+    const int set = static_cast<int>(h[2]);
+    if ((set & 1) != 0 && h[0] > frozen(-stress).Wpeak) return 4;
+    return set;
+  }
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    return {"elastic", "cone (shear hardening)", "cap (collapse)", "cone and cap",
+            "cone past peak (softening)"};
+  }
+
   /// Elastic stiffness, q, W_peak, a, b and eta2 at the compression-positive stress s.
   [[nodiscard]] Frozen frozen(const Vec6& s) const {
     Frozen z;

@@ -127,6 +127,11 @@ public:
   [[nodiscard]] bool is_linear() const override { return true; }
   [[nodiscard]] bool symmetric_tangent() const override { return true; }
   [[nodiscard]] int history_size() const override { return 0; }
+  /// Always 0: a linear elastic point has one regime.
+  [[nodiscard]] int point_status(const Vec6& /*stress*/, std::span<const double> /*history*/) const override {
+    return 0;
+  }
+  [[nodiscard]] std::vector<std::string> status_names() const override { return {"elastic"}; }
 
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
     out.stress.noalias() = in.stress_n + D_ * in.dstrain;

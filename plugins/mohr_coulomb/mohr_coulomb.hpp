@@ -466,6 +466,35 @@ public:
     return p_.psi == p_.phi;
   }
 
+  /// The regime of the committed stress, from its principal values t1 >= t2 >= t3 (tension
+  /// positive), "on" a plane within 1e-6 of the stress scale max(2 c cos phi, |t1|, |t3|):
+  /// 0 elastic; 1 on one Mohr-Coulomb face (Tresca: one side of the prism); 2 on an edge of two
+  /// faces (t2 = t1: triaxial extension, t2 = t3: triaxial compression); 3 at the tension
+  /// cut-off (t1 = T, alone or with shear); 4 at the apex (t1 = t2 = t3 on the surface: c cot
+  /// phi, or T with a cut-off). The rounded form has no edges and no cut-off: 0, 1 or 4.
+  [[nodiscard]] int point_status(const Vec6& stress, std::span<const double> /*history*/) const override {
+    const Eigen::Vector3d t = principal_tension(stress); // ascending
+    const double t1 = t[2], t2 = t[1], t3 = t[0];
+    const double sp = std::sin(radians(p_.phi)), cp = std::cos(radians(p_.phi));
+    const double tol = 1e-6 * std::max({2.0 * p_.c * cp, std::abs(t1), std::abs(t3), 1e-9 * p_.E});
+    const bool equal = t1 - t3 <= tol;
+    if (p_.form == Form::rounded) {
+      const double scale = rounded_.stress_scale(stress, {});
+      if (rounded_.yield(0, stress, {}) < -1e-6 * scale) return 0;
+      return equal ? 4 : 1;
+    }
+    const double T = effective_tension(p_);
+    const bool tension = T >= 0.0 && t1 >= T - tol;
+    const double f = (1.0 + sp) * t1 - (1.0 - sp) * t3 - 2.0 * p_.c * cp;
+    if (equal && (tension || f >= -tol)) return 4;
+    if (tension) return 3;
+    if (f < -tol) return 0;
+    return (t1 - t2 <= tol || t2 - t3 <= tol) ? 2 : 1;
+  }
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    return {"elastic", "shear (on a face)", "shear (on an edge)", "tension cut-off", "apex"};
+  }
+
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
     auto where = [&in] {
       return " at element " + std::to_string(in.where.element) + ", point " + std::to_string(in.where.point);

@@ -31,6 +31,19 @@ public:
   [[nodiscard]] const Constants& constants() const { return c_; }
   [[nodiscard]] bool symmetric_tangent() const override { return false; }
 
+  /// How many principal stresses sit at the tensile strength T (within 1e-6 of
+  /// max(|sigma|, p_a)): 0 none (elastic), 1, 2 or 3 directions cut off.
+  [[nodiscard]] int point_status(const Vec6& stress, std::span<const double> /*history*/) const override {
+    const Eigen::Vector3d t = principal_tension(stress);
+    const double tol = 1e-6 * std::max({std::abs(t[0]), std::abs(t[2]), c_.p_a});
+    int n = 0;
+    for (int i = 0; i < 3; ++i) n += t[i] >= c_.tensile_strength - tol ? 1 : 0;
+    return n;
+  }
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    return {"elastic", "cut off in one direction", "cut off in two directions", "cut off in all directions"};
+  }
+
   /// The tangent stiffness at a tension-positive stress.
   [[nodiscard]] Mat6 stiffness(const Vec6& s) const {
     const double p = std::max(-(s[0] + s[1] + s[2]) / 3.0, c_.p_min);

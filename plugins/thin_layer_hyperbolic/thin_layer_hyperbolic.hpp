@@ -148,6 +148,17 @@ public:
   }
   [[nodiscard]] bool symmetric_tangent() const override { return false; }
 
+  /// 0 below failure (|tau| < tau_f), 1 failed in shear (history[1], |tau| = tau_f), 2 the
+  /// normal stress across the layer is tensile (sigma_n > 0: the layer carries tension, tau_f at
+  /// its floor), whether or not failed.
+  [[nodiscard]] int point_status(const Vec6& stress, std::span<const double> h) const override {
+    if (stress[c_.normal()] > 0.0) return 2;
+    return h.size() > 1 && h[1] > 0.5 ? 1 : 0;
+  }
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    return {"below failure", "failed in shear", "tension across the layer"};
+  }
+
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
     Mat6 D = Mat6::Zero();
     const int N[3] = {voigt::xx, voigt::yy, voigt::zz};

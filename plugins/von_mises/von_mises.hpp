@@ -128,6 +128,16 @@ public:
     return stratum::history_names({{"eps_bar_p", "-"}});
   }
   [[nodiscard]] bool symmetric_tangent() const override { return true; } // associated flow
+  /// 0 elastic (inside the yield surface), 1 on the yield surface: q = sigma_y + H eps_bar_p
+  /// within a relative 1e-6 (the closest-point return lands on it; the explicit schemes to
+  /// their ftol/stol drift).
+  [[nodiscard]] int point_status(const Vec6& stress, std::span<const double> h) const override {
+    const double q[1] = {h.empty() ? 0.0 : h[0]};
+    return model_.yield(0, stress, q) >= -1e-6 * model_.strength(q) ? 1 : 0;
+  }
+  [[nodiscard]] std::vector<std::string> status_names() const override {
+    return {"elastic", "on the yield surface"};
+  }
   [[nodiscard]] const VonMisesModel& model() const { return model_; }
   [[nodiscard]] const plasticity::Settings& settings() const { return settings_; }
 

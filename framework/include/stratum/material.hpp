@@ -65,6 +65,10 @@ public:
   [[nodiscard]] virtual int point_status(const Vec6& /*stress*/, std::span<const double> /*history*/) const {
     return -1;
   }
+  /// The names of the codes of point_status, index = code (e.g. {"elastic", "on the yield
+  /// surface"}), written to the VTK field data so that a reader can label the regimes (and read
+  /// by tools/plastic_zone.py for its legend). Empty (the default): the model names none.
+  [[nodiscard]] virtual std::vector<std::string> status_names() const { return {}; }
 
   /// Branch decisions kept within a load step (docs/design.md, "Branch-consistent Newton"): a
   /// material that returns a history index here keeps its discrete decisions (e.g. loading or

@@ -34,6 +34,8 @@ struct OutputStep {
   /// load_factor, head_load_kN; and text values, e.g. stage.
   std::vector<std::pair<std::string, double>> values = {};
   std::vector<std::pair<std::string, std::string>> texts = {};
+  /// Field data string arrays of several values (e.g. "domains": the domain names in order).
+  std::vector<std::pair<std::string, std::vector<std::string>>> text_lists = {};
   const Mesh* mesh = nullptr;
   std::vector<int> cells;          ///< the cells to write (active cells)
   std::vector<Field> point_fields; ///< one tuple per mesh node (e.g. "displacement", 3 comps)

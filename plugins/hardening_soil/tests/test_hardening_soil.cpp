@@ -432,3 +432,15 @@ TEST_CASE("hardening_soil: a residual-only update does not read the caller's tan
   CHECK(s.allFinite());
   CHECK(std::isnan(T(0, 0))); // left as it was
 }
+
+TEST_CASE("hardening_soil: every status bitmask has a name for the VTK legend",
+          "[hardening_soil][point_status]") {
+  const auto m = make(base_set());
+  const auto names = m->status_names();
+  REQUIRE(names.size() == 64); // bits 0-5: S, M, C and the three tension planes
+  CHECK(names[0] == "elastic");
+  CHECK(names[1] == "shear hardening");
+  CHECK(names[1 | 4] == "shear hardening + cap");
+  CHECK(names[2 | 8] == "Mohr-Coulomb failure + tension cut-off");
+  CHECK(names[8 | 16 | 32] == "tension apex");
+}

@@ -325,3 +325,51 @@ TEST_CASE("lade: the peak of drained triaxial paths lies on the failure surface 
     CHECK(q_peak == Approx(qf).epsilon(1e-6));
   }
 }
+
+TEST_CASE("lade: point_status names the cap, the cone with the cap, the cone alone and the softening cone",
+          "[lade][point_status]") {
+  const ld::Constants c = dense_sand();
+  const ld::Lade mat(c);
+  REQUIRE(mat.status_names().size() == 5);
+  // Isotropic compression: the cap alone (the cone does no work on isotropic paths).
+  Point p(mat, isotropic(100.0));
+  for (int k = 0; k < 3; ++k) {
+    Vec6 de = Vec6::Zero();
+    de[0] = de[1] = de[2] = -1e-4;
+    REQUIRE(p.step(de).ok());
+  }
+  CHECK(mat.point_status(p.stress, p.history) == 2);
+  INFO("isotropic compression to p = " << -p.stress[0] << " kPa");
+  // Isotropic unloading to 100 kPa: elastic (the cap left behind).
+  const double p_max = -p.stress[0];
+  for (int k = 0; k < 200 && -p.stress[0] > 100.0; ++k) {
+    Vec6 de = Vec6::Zero();
+    de[0] = de[1] = de[2] = 1e-5;
+    REQUIRE(p.step(de).ok());
+  }
+  CHECK(mat.point_status(p.stress, p.history) == 0);
+  // Drained triaxial compression at sigma3 = 100 kPa, below the old cap (f_c = s:s < 3 p_max^2):
+  // the cone alone; later, with s:s past the old cap, cone and cap; past the peak, softening.
+  const double s3 = -p.stress[0];
+  Vec6 g = Vec6::Zero();
+  REQUIRE(triaxial_step(p, -1e-4, g, s3).ok());
+  REQUIRE(ld::fc(-p.stress) < 3.0 * p_max * p_max);
+  CHECK(mat.point_status(p.stress, p.history) == 1);
+  bool both = false, soft = false;
+  double q_peak = 0.0;
+  for (int k = 0; k < 500; ++k) {
+    REQUIRE(triaxial_step(p, -1e-4, g, s3).ok());
+    const double q = p.stress[0] - p.stress[1];
+    q_peak = std::max(q_peak, q);
+    const int st = mat.point_status(p.stress, p.history);
+    both = both || st == 3;
+    // Past the peak of q: W_cone > W_peak (constant at constant sigma3, beta = 0), the
+    // softening branch of H1.
+    if (q < q_peak * (1.0 - 1e-9)) {
+      CHECK(st == 4);
+      soft = true;
+    }
+  }
+  CHECK(both);
+  CHECK(soft);
+}
