@@ -4,7 +4,7 @@
 //               [--progress-every SECONDS]
 //   stratum check SCENE.toml [--quiet]
 //   stratum point POINT.toml [--out FILE.csv]
-//   stratum plugins [--describe [NAME] | --all]
+//   stratum plugins [--describe [NAME] | --all | --paths]
 //   stratum fit TARGET CSV... [-o FILE]   (framework/cli/fit.cpp)
 //   stratum sweep STUDY.toml [--out DIR]  (framework/cli/sweep.cpp; also under mpirun)
 //   stratum --version
@@ -57,7 +57,7 @@ constexpr const char* usage =
     "                  [--progress-every SECONDS]\n"
     "       stratum check SCENE.toml [--quiet]\n"
     "       stratum point POINT.toml [--out FILE.csv]\n"
-    "       stratum plugins [--describe [NAME] | --all]\n"
+    "       stratum plugins [--describe [NAME] | --all | --paths]\n"
     "       stratum fit TARGET CSV... [-o FILE.toml]\n"
     "       stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]   (also under mpirun -n N)\n"
     "       stratum --version\n"
@@ -123,8 +123,11 @@ constexpr const char* plugins_help =
     "       stratum plugins --describe NAME   one plugin in full: library, every parameter with\n"
     "                                         its type, unit, range, default and meaning\n"
     "       stratum plugins --describe        (or --all) every plugin in full\n"
+    "       stratum plugins --paths           the folders searched for plugins, one a line, in order\n"
     "\n"
-    "Plugins are found on STRATUM_PLUGIN_PATH, then in the program's own plugin folder.\n"
+    "Plugins are found on STRATUM_PLUGIN_PATH, then in the program's own plugin folder: an\n"
+    "installed stratum searches <prefix>/lib/stratum/plugins, never the build tree it came from.\n"
+    "A scene's [plugins] path comes before both.\n"
     "\n"
     "options:\n"
     "  -h, --help   this text\n"
@@ -185,10 +188,14 @@ void describe(const Registry& reg, PluginKind kind, const std::string& name, boo
 int plugins(const std::vector<std::string>& args) {
   const bool all = args.size() == 1 && (args[0] == "--describe" || args[0] == "--all");
   const bool one = args.size() == 2 && args[0] == "--describe";
+  if (args.size() == 1 && args[0] == "--paths") {
+    for (const auto& d : PluginCatalog::default_directories()) std::cout << d << "\n";
+    return 0;
+  }
   if (!args.empty() && !all && !one)
     throw Error("plugins: unexpected argument" + std::string(args.size() > 2 ? "s" : "") + " '" + args[0] +
                 (args.size() > 1 ? " " + args[1] + (args.size() > 2 ? " ..." : "") : "") +
-                "'; allowed: --describe [NAME], --all (see stratum plugins --help)");
+                "'; allowed: --describe [NAME], --all, --paths (see stratum plugins --help)");
   PluginCatalog catalog(PluginCatalog::default_directories());
   Registry reg;
   catalog.require_all(reg);
