@@ -409,8 +409,13 @@ int run(const std::vector<std::string>& args, bool check_only) {
   const RunSummary s = analysis->run();
   progress.end();
   if (!s.outcome.ok()) {
-    std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message
-              << "\n";
+    std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message;
+    // A singular stiffness before any step has converged is a model that can move without
+    // resistance; later it is the structure's own loss of stiffness (see until_failure).
+    if (s.outcome.status == Status::singular && s.steps_done == 0)
+      std::cerr << " (before any step converged: a part of the model may be free to move as a rigid body; "
+                   "check the constraints)";
+    std::cerr << "\n";
     return 2;
   }
   std::cout << "done: " << s.steps_done << " steps";
@@ -441,7 +446,8 @@ int run(const std::vector<std::string>& args, bool check_only) {
                 << " of the stage's first step's stiffness): this is not a collapse load; the table ends at "
                    "the last converged level (see diagnostics.csv)\n";
     // The failed step's message (its residual may be NaN) is a diagnostic, not a result: stderr.
-    std::cerr << "stratum: the step that stopped the run: " << s.stop_message << "\n";
+    std::cerr << "stratum: the step that stopped the run"
+              << (s.stop_reason == "collapse" ? " at the collapse: " : ": ") << s.stop_message << "\n";
   } else if (s.stop_reason == "settlement")
     std::cout << "stopped: the settlement limit of the stage is exceeded\n";
 
