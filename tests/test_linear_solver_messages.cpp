@@ -1,6 +1,8 @@
 // The linear solvers' failures come back as one line of ours, and the libraries print nothing
 // (issue 22: a collapse printed nine raw "CHOLMOD warning: matrix not positive definite" lines).
+#include "solver_helpers.hpp"
 #include "stratum/linear_solver.hpp"
+#include "stratum/step_control.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -12,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -115,4 +118,82 @@ TEST_CASE("the other solvers: a singular matrix is one line naming the solver", 
     CHECK(o.status == Status::singular);
     CHECK(o.message.rfind(std::string(name) + ": the matrix is singular", 0) == 0);
   }
+}
+
+namespace {
+
+/// A structure that loses its stiffness: n unknowns coupled by A = n I + 1 1^T (dense, so that
+/// CHOLMOD factorizes supernodally) and a softening spring on the last one, s(u) = -b u^2,
+/// loaded at the last unknown by lambda F. Condensed on the last unknown the path is
+/// lambda F = c u - b u^2 (c the condensed stiffness of A): a limit load c^2 / (4 b) at
+/// u = c / (2 b), set to lambda = 0.6; past it the tangent A - 2 b u e e^T is indefinite.
+class Softening final : public NonlinearProblem {
+public:
+  explicit Softening(int n) : n_(n), ls_(make_linear_solver("cholmod", true, n)) {
+    const double m = n - 1.0;
+    c_ = n + 1.0 - m / (n + m); // (n + 1) - 1^T (n I + 1 1^T)^-1 1 over the other n - 1 unknowns
+    F_ = c_ * c_ / (4.0 * b_) / 0.6;
+    ref_ = Eigen::VectorXd::Zero(n);
+    ref_[n - 1] = F_;
+  }
+  Eigen::Index size() const override { return n_; }
+  Outcome evaluate(const Eigen::VectorXd& u, double lambda, Eigen::VectorXd& r, SparseMatrix* k) override {
+    const double un = u[n_ - 1];
+    r = lambda * ref_ - (n_ * u + Eigen::VectorXd::Constant(n_, u.sum()));
+    r[n_ - 1] += b_ * un * un;
+    if (k) {
+      Eigen::MatrixXd d = Eigen::MatrixXd::Ones(n_, n_) + n_ * Eigen::MatrixXd::Identity(n_, n_);
+      d(n_ - 1, n_ - 1) -= 2.0 * b_ * un;
+      *k = d.sparseView(0.0, 0.0); // keep the full pattern
+      k->makeCompressed();
+    }
+    return {};
+  }
+  SparseMatrix make_tangent() const override {
+    SparseMatrix k = Eigen::MatrixXd::Ones(n_, n_).sparseView();
+    k.makeCompressed();
+    return k;
+  }
+  const Eigen::VectorXd& reference_load() const override { return ref_; }
+  LinearSolver& linear_solver() override { return *ls_; }
+  double force_scale(double lambda) const override { return std::max(1.0, std::abs(lambda) * F_); }
+  double limit_u() const { return c_ / (2.0 * b_); }
+
+private:
+  int n_;
+  double b_ = 1.0, c_ = 0.0, F_ = 0.0;
+  Eigen::VectorXd ref_;
+  std::unique_ptr<LinearSolver> ls_;
+};
+
+} // namespace
+
+TEST_CASE("a load step past the limit: CHOLMOD's breakdown is one line in the step's record, nothing printed",
+          "[linear_solver][solver]") {
+  auto solver = stratum::testing::load_solver("newton");
+  StepSettings s;
+  s.steps = 4; // 0.25, 0.5, then 0.75 is past the limit load at 0.6
+  s.max_cutbacks = 3;
+  Softening p(64);
+  StepCallbacks cb;
+  cb.commit = [] {};
+  cb.revert = [] {};
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(64);
+  StageResult res;
+  const std::string out = captured_output([&] { res = run_stage(p, *solver->solver, s, cb, u); });
+  CHECK(out.empty());
+  REQUIRE_FALSE(res.outcome.ok());
+  CHECK(res.lambda >= 0.5);
+  CHECK(res.lambda < 0.6);
+  CHECK(u[63] < p.limit_u());
+  // The failed attempts say why in one line of ours.
+  int broke_down = 0;
+  for (const auto& r : res.records)
+    if (!r.accepted && r.message.find("cholmod: the matrix is not positive definite") != std::string::npos) {
+      ++broke_down;
+      CHECK(r.message.find('\n') == std::string::npos);
+    }
+  INFO(res.outcome.message);
+  CHECK(broke_down > 0);
+  CHECK(res.outcome.message.find("CHOLMOD warning") == std::string::npos);
 }
