@@ -30,7 +30,8 @@ build=$(cd "$1" && pwd)
 sdk=$(cd "$2" && pwd)
 work=$3
 source_root=$(cd "$sdk/../.." && pwd)
-guide=$source_root/docs/plugin-guide.md
+# The guide whose code is built; STRATUM_SDK_GUIDE may name another (a draft of a new section).
+guide=${STRATUM_SDK_GUIDE:-$source_root/docs/plugin-guide.md}
 
 fail() {
   echo "sdk test FAILED: $*" >&2
@@ -112,12 +113,17 @@ command -v python3 >/dev/null 2>&1 || fail "python3 is needed to read the guide'
 run_logged "$work/extract.log" python3 "$source_root/tools/guide_snippets.py" "$guide" "$example_src" \
   --source "$source_root"
 sed 's/^/   /' "$work/extract.log"
-# Every folder with a CMakeLists.txt that is not inside another one is a project of its own.
+# Every folder with a CMakeLists.txt is a project of its own, unless a project above it takes it
+# in with add_subdirectory(<its path>).
 projects=()
 while IFS= read -r f; do
   d=$(dirname "$f")
   inner=0
-  for p in "${projects[@]}"; do [[ $d == "$p"/* ]] && inner=1; done
+  for p in "${projects[@]}"; do
+    if [[ $d == "$p"/* ]] && grep -Eq "add_subdirectory\([[:space:]]*\"?${d#"$p"/}\"?[[:space:])]" "$p/CMakeLists.txt"; then
+      inner=1
+    fi
+  done
   ((inner)) || projects+=("$d")
 done < <(find "$example_src" -name CMakeLists.txt | awk '{ print length($0) " " $0 }' | sort -n | cut -d' ' -f2-)
 ((${#projects[@]})) || fail "the guide has no '# file: CMakeLists.txt' block"
