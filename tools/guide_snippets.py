@@ -7,7 +7,8 @@ A fenced code block whose first non-blank line is a marker
     # file: CMakeLists.txt             (CMake, TOML, shell)
 
 is (part of) a file of the guide's example project, at that path relative to the output
-directory. Several blocks naming the same file are joined in the order of the guide, so a file
+directory. Several blocks naming the same file are joined in the order of the guide (with a
+blank line between them), so a file
 can be shown in pieces with prose between them (the marker of a later piece may say
 "(continued)" after the name). The marker lines are kept: they are comments in every language
 the guide uses.
@@ -145,7 +146,10 @@ def main(argv: list[str]) -> int:
             if a.list:
                 print(f"{guide}:{b.line}: {kind} {path}")
             if kind == "file":
-                files.setdefault(safe_path(path, guide, b.line), []).extend(b.lines)
+                lines = files.setdefault(safe_path(path, guide, b.line), [])
+                if lines:
+                    lines.append("")  # a blank line between the pieces of one file
+                lines.extend(b.lines)
             else:
                 excerpts += 1
                 if a.source:

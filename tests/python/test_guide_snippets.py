@@ -79,7 +79,7 @@ class GuideSnippets(unittest.TestCase):
         # Two pieces joined in order; the list item's three-space indentation removed.
         self.assertEqual(
             (out / "src" / "a.cpp").read_text(),
-            '// file: src/a.cpp\n#include "a.hpp"\n// file: src/a.cpp (continued)\nint a() { return 1; }\n',
+            '// file: src/a.cpp\n#include "a.hpp"\n\n// file: src/a.cpp (continued)\nint a() { return 1; }\n',
         )
         self.assertTrue((out / "CMakeLists.txt").exists())
         self.assertEqual(sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()),
