@@ -8,9 +8,8 @@ A fenced code block whose first non-blank line is a marker
 
 is (part of) a file of the guide's example project, at that path relative to the output
 directory. Several blocks naming the same file are joined in the order of the guide (with a
-blank line between them), so a file
-can be shown in pieces with prose between them (the marker of a later piece may say
-"(continued)" after the name). The marker lines are kept: they are comments in every language
+blank line between them), so a file can be shown in pieces with prose between them (the
+marker of a later piece may say "(continued)" after the name). The marker lines are kept: they are comments in every language
 the guide uses.
 
 A block whose first line is
