@@ -168,7 +168,7 @@ TEST_CASE("a pile loaded past its capacity stops cleanly and names the step that
   CHECK(out.find("\nstopped: collapse: a load step found no equilibrium after its cut-backs") !=
         std::string::npos);
   const std::string lead =
-      "stratum: the step that stopped the run: stage \"loading\": step from load factor ";
+      "stratum: the step that stopped the run at the collapse: stage \"loading\": step from load factor ";
   const auto at = err.find(lead);
   REQUIRE(at != std::string::npos);
   CHECK(err.find("(gave up after 5 cut-backs)", at) != std::string::npos);

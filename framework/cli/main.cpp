@@ -4,7 +4,7 @@
 //               [--progress-every SECONDS]
 //   stratum check SCENE.toml [--quiet]
 //   stratum point POINT.toml [--out FILE.csv]
-//   stratum plugins [--describe [NAME] | --all]
+//   stratum plugins [--describe [NAME] | --all | --paths]
 //   stratum fit TARGET CSV... [-o FILE]   (framework/cli/fit.cpp)
 //   stratum sweep STUDY.toml [--out DIR]  (framework/cli/sweep.cpp; also under mpirun)
 //   stratum --version
@@ -57,7 +57,7 @@ constexpr const char* usage =
     "                  [--progress-every SECONDS]\n"
     "       stratum check SCENE.toml [--quiet]\n"
     "       stratum point POINT.toml [--out FILE.csv]\n"
-    "       stratum plugins [--describe [NAME] | --all]\n"
+    "       stratum plugins [--describe [NAME] | --all | --paths]\n"
     "       stratum fit TARGET CSV... [-o FILE.toml]\n"
     "       stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]   (also under mpirun -n N)\n"
     "       stratum --version\n"
@@ -123,8 +123,11 @@ constexpr const char* plugins_help =
     "       stratum plugins --describe NAME   one plugin in full: library, every parameter with\n"
     "                                         its type, unit, range, default and meaning\n"
     "       stratum plugins --describe        (or --all) every plugin in full\n"
+    "       stratum plugins --paths           the folders searched for plugins, one a line, in order\n"
     "\n"
-    "Plugins are found on STRATUM_PLUGIN_PATH, then in the program's own plugin folder.\n"
+    "Plugins are found on STRATUM_PLUGIN_PATH, then in the program's own plugin folder: an\n"
+    "installed stratum searches <prefix>/lib/stratum/plugins, never the build tree it came from.\n"
+    "A scene's [plugins] path comes before both.\n"
     "\n"
     "options:\n"
     "  -h, --help   this text\n"
@@ -185,10 +188,14 @@ void describe(const Registry& reg, PluginKind kind, const std::string& name, boo
 int plugins(const std::vector<std::string>& args) {
   const bool all = args.size() == 1 && (args[0] == "--describe" || args[0] == "--all");
   const bool one = args.size() == 2 && args[0] == "--describe";
+  if (args.size() == 1 && args[0] == "--paths") {
+    for (const auto& d : PluginCatalog::default_directories()) std::cout << d << "\n";
+    return 0;
+  }
   if (!args.empty() && !all && !one)
     throw Error("plugins: unexpected argument" + std::string(args.size() > 2 ? "s" : "") + " '" + args[0] +
                 (args.size() > 1 ? " " + args[1] + (args.size() > 2 ? " ..." : "") : "") +
-                "'; allowed: --describe [NAME], --all (see stratum plugins --help)");
+                "'; allowed: --describe [NAME], --all, --paths (see stratum plugins --help)");
   PluginCatalog catalog(PluginCatalog::default_directories());
   Registry reg;
   catalog.require_all(reg);
@@ -403,8 +410,13 @@ int run(const std::vector<std::string>& args, bool check_only) {
   const RunSummary s = analysis->run();
   progress.end();
   if (!s.outcome.ok()) {
-    std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message
-              << "\n";
+    std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message;
+    // A singular stiffness before any step has converged is a model that can move without
+    // resistance; later it is the structure's own loss of stiffness (see until_failure).
+    if (s.outcome.status == Status::singular && s.steps_done == 0)
+      std::cerr << " (before any step converged: a part of the model may be free to move as a rigid body; "
+                   "check the constraints)";
+    std::cerr << "\n";
     return 2;
   }
   std::cout << "done: " << s.steps_done << " steps";
@@ -435,7 +447,8 @@ int run(const std::vector<std::string>& args, bool check_only) {
                 << " of the stage's first step's stiffness): this is not a collapse load; the table ends at "
                    "the last converged level (see diagnostics.csv)\n";
     // The failed step's message (its residual may be NaN) is a diagnostic, not a result: stderr.
-    std::cerr << "stratum: the step that stopped the run: " << s.stop_message << "\n";
+    std::cerr << "stratum: the step that stopped the run"
+              << (s.stop_reason == "collapse" ? " at the collapse: " : ": ") << s.stop_message << "\n";
   } else if (s.stop_reason == "settlement")
     std::cout << "stopped: the settlement limit of the stage is exceeded\n";
 

@@ -92,12 +92,20 @@ std::vector<std::string> PluginCatalog::default_directories() {
       start = end + 1;
     }
   }
+  // The plugins that belong to the running libstratum: the library of a build tree uses that
+  // tree's plugins folder, any other copy (an installed one) the folder beside it. Never both:
+  // an installed program that fell back on the build tree would load plugins built from other
+  // sources than its own, and a build tree that is rebuilt or deleted would change it.
   Dl_info info{};
   if (dladdr(reinterpret_cast<void*>(&PluginCatalog::default_directories), &info) && info.dli_fname) {
-    fs::path lib = fs::absolute(info.dli_fname).parent_path() / "stratum" / "plugins";
-    dirs.push_back(lib.string());
+    std::error_code ec;
+    fs::path here = fs::absolute(info.dli_fname).parent_path();
+    if (fs::path c = fs::weakly_canonical(here, ec); !ec) here = c; // <prefix>/lib, not <prefix>/bin/../lib
+    if (fs::equivalent(here, fs::path(STRATUM_BUILD_LIBRARY_DIR), ec))
+      dirs.push_back(STRATUM_BUILD_PLUGIN_DIR);
+    else
+      dirs.push_back((here / "stratum" / "plugins").string());
   }
-  dirs.push_back(STRATUM_BUILD_PLUGIN_DIR);
   return dirs;
 }
 

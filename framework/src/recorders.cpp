@@ -1,5 +1,6 @@
 #include "recorders.hpp"
 
+#include "stratum/interfaces.hpp"
 #include "stratum/suggest.hpp"
 #include "toml_check.hpp"
 
@@ -20,8 +21,11 @@ const std::vector<std::string>& allowed(const std::string& kind) {
   static const std::vector<std::string> point{"x",   "y",   "sxx", "syy", "szz",   "sxy",
                                               "exx", "eyy", "ezz", "gxy", "status"};
   static const std::vector<std::string> global{"lambda", "iterations", "time"};
+  static const std::vector<std::string> iface{"s",    "x",       "y",     "shear_traction", "normal_traction",
+                                              "slip", "opening", "status"};
   if (kind == "point") return point;
   if (kind == "global") return global;
+  if (kind == "interface") return iface;
   return node; // node, nodes
 }
 
@@ -31,15 +35,55 @@ std::string joined(const std::vector<std::string>& v) {
   return s;
 }
 
+/// The interface points in order along the interface, with s the arc length of the polyline
+/// through them from the end nearest the first point in cell order (the set's first edge, or
+/// for node pairs its lowest node). The order is found by walking from that end to the nearest
+/// point not yet visited, which follows any chain whose points are closer to their neighbours
+/// than to the points of another part of the chain.
+std::vector<InterfacePoint> ordered_along(std::vector<InterfacePoint> pts) {
+  if (pts.size() < 2) {
+    for (auto& p : pts) p.s = 0.0;
+    return pts;
+  }
+  const auto farthest = [&](const Vec2& from) {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < pts.size(); ++i)
+      if ((pts[i].x - from).norm() > (pts[best].x - from).norm()) best = i;
+    return best;
+  };
+  const std::size_t end_a = farthest(pts.front().x), end_b = farthest(pts[end_a].x);
+  const Vec2 first = pts.front().x;
+  std::size_t at = (pts[end_b].x - first).norm() < (pts[end_a].x - first).norm() ? end_b : end_a;
+  std::vector<InterfacePoint> out;
+  std::vector<char> used(pts.size(), 0);
+  double s = 0.0;
+  for (std::size_t k = 0; k < pts.size(); ++k) {
+    if (!out.empty()) s += (pts[at].x - out.back().x).norm();
+    used[at] = 1;
+    out.push_back(pts[at]);
+    out.back().s = s;
+    std::size_t next = pts.size();
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (!used[i] &&
+          (next == pts.size() || (pts[i].x - pts[at].x).norm() < (pts[next].x - pts[at].x).norm()))
+        next = i;
+    at = next;
+  }
+  return out;
+}
+
 } // namespace
 
 Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& model) {
   Schema s;
   s.text("name", {}, "recorder name: the file history/<name>.csv");
-  s.text("kind", {"node", "nodes", "point", "global"},
+  s.text("kind", {"node", "nodes", "point", "global", "interface"},
          "one node at `at`, a node or edge `set` (mean displacement, summed reaction), the "
-         "integration point nearest to `at`, or global quantities");
-  s.text("set", {}, "nodes: the node or edge set").defaults_to(std::string());
+         "integration point nearest to `at`, global quantities, or the points of an interface "
+         "(traction and jump along it, one row per point)");
+  s.text("set", {},
+         "nodes: the node or edge set; interface: the [[interfaces]] name (by default its edge set's)")
+      .defaults_to(std::string());
   s.real_list("at", "m", "node, point: the location [x, y]").defaults_to(std::vector<double>{});
   const Params p = io::check_table(t, s, ctx, {"quantities"});
   name_ = p.text("name");
@@ -63,8 +107,24 @@ Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& mo
                   ctx + " set = \"" + set_ +
                       "\" is not a node or edge set of the mesh; known: " + key_list(model.mesh.node_sets));
     nodes_ = it->second;
+  } else if (kind_ == "interface") {
+    if (set_.empty())
+      throw Error(location(t), ctx + " kind = \"interface\" needs set = \"<interface name>\"");
+    std::vector<std::string> known;
+    bool found = false;
+    for (std::size_t d = 0; d < model.domains.size(); ++d) {
+      const Domain& dm = model.domains[d];
+      if (!dm.law.contact) continue;
+      known.push_back(dm.name);
+      if (dm.name == set_) domain_ = d, found = true;
+    }
+    if (!found)
+      throw Error(p.where("set"),
+                  ctx + " set = \"" + set_ + "\" is not an interface of the scene; " +
+                      (known.empty() ? std::string("the scene has no [[interfaces]]")
+                                     : "known: " + joined(known) + did_you_mean(set_, known)));
   } else if (!set_.empty()) {
-    throw Error(p.where("set"), ctx + " set acts only for kind = \"nodes\"");
+    throw Error(p.where("set"), ctx + " set acts only for kind = \"nodes\" or \"interface\"");
   }
   if (needs_at) at_[0] = at[0], at_[1] = at[1];
   if (kind_ == "node") {
@@ -109,6 +169,20 @@ Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& mo
   } else {
     quantities_ = names;
   }
+  // An interface's rows are points: where each is along the interface comes first, always.
+  if (kind_ == "interface" && quantities_.front() != "s") {
+    quantities_.erase(std::remove(quantities_.begin(), quantities_.end(), "s"), quantities_.end());
+    quantities_.insert(quantities_.begin(), "s");
+  }
+}
+
+std::vector<const RecorderRow*> Recorder::last_step() const {
+  std::vector<const RecorderRow*> out;
+  for (auto it = rows_.rbegin(); it != rows_.rend(); ++it) {
+    if (it->stage != rows_.back().stage || it->step != rows_.back().step) break;
+    out.insert(out.begin(), &*it);
+  }
+  return out;
 }
 
 int Recorder::column(const std::string& quantity) const {
@@ -123,6 +197,19 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
     return m.reactions[d] - m.load_base[d] - m.lambda * m.load_ref[d];
   };
   std::vector<double> v; // in the order of allowed(kind_)
+  const auto& names = allowed(kind_);
+  if (kind_ == "interface") {
+    for (const auto& ip : ordered_along(interface_points(m, m.domains[domain_]))) {
+      v = {ip.s,           ip.x[0],    ip.x[1],    ip.traction[0],
+           ip.traction[1], ip.jump[0], ip.jump[1], static_cast<double>(static_cast<int>(ip.state))};
+      RecorderRow row{stage, step, lambda, {}};
+      for (const auto& q : quantities_)
+        row.values.push_back(
+            v[static_cast<std::size_t>(std::find(names.begin(), names.end(), q) - names.begin())]);
+      rows_.push_back(std::move(row));
+    }
+    return;
+  }
   if (kind_ == "node" || kind_ == "nodes") {
     double u[2] = {0, 0}, f[2] = {0, 0};
     for (int n : nodes_)
@@ -158,7 +245,6 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
   } else {
     v = {lambda, static_cast<double>(iterations), static_cast<double>(stage - 1) + lambda};
   }
-  const auto& names = allowed(kind_);
   for (const auto& q : quantities_)
     r.values.push_back(v[static_cast<std::size_t>(std::find(names.begin(), names.end(), q) - names.begin())]);
   rows_.push_back(std::move(r));
@@ -215,8 +301,15 @@ std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,
     res.label = c.recorder + "." + c.quantity;
     res.expected = c.expected;
     res.tolerance = c.atol + c.rtol * std::abs(c.expected);
-    res.value = r.rows().empty() ? std::numeric_limits<double>::quiet_NaN()
-                                 : r.rows().back().values[static_cast<std::size_t>(r.column(c.quantity))];
+    // The last step's value; for an interface the point farthest from the expected value, so
+    // that the check holds at every point (NaN anywhere wins: it fails).
+    res.value = std::numeric_limits<double>::quiet_NaN();
+    double worst = -1.0;
+    for (const RecorderRow* row : r.last_step()) {
+      const double x = row->values[static_cast<std::size_t>(r.column(c.quantity))];
+      const double d = std::isnan(x) ? std::numeric_limits<double>::infinity() : std::abs(x - c.expected);
+      if (d > worst) worst = d, res.value = x;
+    }
     res.pass = std::abs(res.value - res.expected) <= res.tolerance; // NaN fails
     out.push_back(res);
   }

@@ -12,9 +12,20 @@
 //                                 exx, eyy, ezz, gxy (engineering shear), status (the model's
 //                                 point_status: its own regime number, -1 where it has none)
 //   kind = "global"               lambda, iterations (of the step), time (stage - 1 + lambda)
+//   kind = "interface" set = "..." an interface ([[interfaces]] name, by default its edge set's):
+//                                 one row per interface point and step, ordered along it:
+//                                 s (m, arc length along the interface from its end nearest
+//                                 the set's first point; always the first column), x, y (m),
+//                                 shear_traction, normal_traction (kPa, normal tension
+//                                 positive), slip, opening (m: the jump u(body 2) - u(body 1)
+//                                 along the tangent a -> b and the normal out of body 1),
+//                                 status (0 stick, 1 slip, 2 open); a point that two
+//                                 elements share (nodal integration) has a row for each
 //
 // A check compares the last recorded value of one recorder quantity with an expected value:
-// it passes when |value - expected| <= atol + rtol |expected|. The run prints each check and
+// it passes when |value - expected| <= atol + rtol |expected|. For an interface recorder the
+// value is that of the point of the last step farthest from the expected one (the check holds
+// at every point). The run prints each check and
 // ends with exit status 5 when one fails (framework/cli/main.cpp).
 #pragma once
 
@@ -45,6 +56,8 @@ public:
   [[nodiscard]] const std::vector<RecorderRow>& rows() const { return rows_; }
   /// Index of a quantity, or -1.
   [[nodiscard]] int column(const std::string& quantity) const;
+  /// The rows of the last recorded step (one, or one per point for an interface); empty if none.
+  [[nodiscard]] std::vector<const RecorderRow*> last_step() const;
 
   /// Samples the model's converged state (reactions already updated).
   void sample(const Model& model, int stage, int step, double lambda, int iterations);
@@ -55,6 +68,7 @@ private:
   std::string name_, kind_, set_;
   std::vector<std::string> quantities_;
   std::vector<int> nodes_; ///< node: the one node; nodes: the set
+  std::size_t domain_ = 0; ///< interface: index of the interface's domain in Model::domains
   double at_[2] = {0.0, 0.0};
   std::vector<RecorderRow> rows_;
 };

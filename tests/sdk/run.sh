@@ -4,15 +4,21 @@
 #   run.sh <stratum build dir> <tests/sdk dir> <work dir>
 #
 # 1. installs the built framework into <work>/prefix (headers, libstratum, the
-#    in-tree plugins, the CMake package config, the stratum program);
-# 2. configures and builds tests/sdk/example_plugin against that prefix only
-#    (find_package(Stratum) + stratum_add_plugin), into <work>/build;
+#    in-tree plugins, the CMake package config, the stratum program), and checks
+#    that the installed program searches only installed plugins, never the build
+#    tree's (`stratum plugins --paths`; a plugin removed from the prefix is gone);
+# 2. writes out the code blocks of docs/plugin-guide.md that start with a
+#    `// file: NAME` / `# file: NAME` marker (tools/guide_snippets.py), checks
+#    its `excerpt of:` blocks against the source tree, and configures and builds
+#    every project among them (each folder with a CMakeLists.txt) against that
+#    prefix only (find_package(Stratum) + stratum_add_plugin), with -Werror;
 # 3. checks that the installed stratum finds its own plugins and, through
-#    STRATUM_PLUGIN_PATH, the example plugin (`stratum plugins --describe`);
+#    STRATUM_PLUGIN_PATH, the guide's example plugin (`stratum plugins --describe`);
 # 4. checks that the schema's range reaches the user as a located error;
-# 5. `stratum check` and `stratum run --out` a Lamé cylinder made of the example
-#    material, and runs the example's own test program, which compares u(a)
-#    with the closed form.
+# 5. `stratum check` and `stratum run --out` every scene (*.toml) of the guide:
+#    each must state [[checks]] and pass them (the Lamé cylinder's u(a), u(b)
+#    against the closed form); then runs the projects' own tests (ctest), i.e.
+#    the guide's test program test_kg_elastic.
 # Exits non-zero with a message naming the failed check.
 set -euo pipefail
 
@@ -23,6 +29,9 @@ fi
 build=$(cd "$1" && pwd)
 sdk=$(cd "$2" && pwd)
 work=$3
+source_root=$(cd "$sdk/../.." && pwd)
+# The guide whose code is built; STRATUM_SDK_GUIDE may name another (a draft of a new section).
+guide=${STRATUM_SDK_GUIDE:-$source_root/docs/plugin-guide.md}
 
 fail() {
   echo "sdk test FAILED: $*" >&2
@@ -46,7 +55,7 @@ rm -rf -- "$work"
 mkdir -p "$work"
 work=$(cd "$work" && pwd)
 prefix=$work/prefix
-example_src=$sdk/example_plugin
+example_src=$work/guide # the files written out of the guide
 example_build=$work/build
 scene=$example_src/lame_kg.toml
 
@@ -74,27 +83,79 @@ if command -v ldd >/dev/null 2>&1; then
   echo "   bin/stratum runs on $resolved"
 fi
 
-# --- 2. build the example against the installed package --------------------------
-step "build $example_src against $prefix"
+stratum=$prefix/bin/stratum
+
+# --- 1b. the installed program never looks in the build tree ----------------------
+step "the installed stratum searches only installed plugins"
+paths=$(env -u STRATUM_PLUGIN_PATH "$stratum" plugins --paths) || fail "stratum plugins --paths failed"
+sed 's/^/   | /' <<<"$paths"
+[[ $(realpath -m "$(head -n 1 <<<"$paths")") == "$(realpath "$libdir/stratum/plugins")" ]] ||
+  fail "the installed stratum does not search $libdir/stratum/plugins first:"$'\n'"$paths"
+while IFS= read -r d; do
+  if [[ $(realpath -m "$d") == "$(realpath "$build")/plugins" ]]; then
+    fail "the installed stratum searches the build tree's plugins $build/plugins:"$'\n'"$paths"
+  fi
+done <<<"$paths"
+paths=$(STRATUM_PLUGIN_PATH=/nowhere/a:/nowhere/b "$stratum" plugins --paths)
+[[ $paths == "/nowhere/a"$'\n'"/nowhere/b"$'\n'* ]] || fail "STRATUM_PLUGIN_PATH does not come first:"$'\n'"$paths"
+# A plugin taken out of the prefix is gone for the installed program, although the build tree
+# (on no path) still has it.
+[[ -f $build/plugins/stratum_von_mises.plugin ]] || fail "the build tree has no von_mises plugin to compare with"
+rm -f "$libdir/stratum/plugins/stratum_von_mises.so" "$libdir/stratum/plugins/stratum_von_mises.plugin"
+if err=$(env -u STRATUM_PLUGIN_PATH "$stratum" plugins --describe von_mises 2>&1); then
+  fail "the installed stratum still found von_mises after its removal from the prefix:"$'\n'"$err"
+fi
+echo "   von_mises removed from the prefix: $err"
+
+# --- 2. write out the guide's files and build them against the installed package --
+step "the guide's code: $guide -> $example_src"
+command -v python3 >/dev/null 2>&1 || fail "python3 is needed to read the guide's code blocks"
+run_logged "$work/extract.log" python3 "$source_root/tools/guide_snippets.py" "$guide" "$example_src" \
+  --source "$source_root"
+sed 's/^/   /' "$work/extract.log"
+# Every folder with a CMakeLists.txt is a project of its own, unless a project above it takes it
+# in with add_subdirectory(<its path>).
+projects=()
+while IFS= read -r f; do
+  d=$(dirname "$f")
+  inner=0
+  for p in "${projects[@]}"; do
+    if [[ $d == "$p"/* ]] && grep -Eq "add_subdirectory\([[:space:]]*\"?${d#"$p"/}\"?[[:space:])]" "$p/CMakeLists.txt"; then
+      inner=1
+    fi
+  done
+  ((inner)) || projects+=("$d")
+done < <(find "$example_src" -name CMakeLists.txt | awk '{ print length($0) " " $0 }' | sort -n | cut -d' ' -f2-)
+((${#projects[@]})) || fail "the guide has no '# file: CMakeLists.txt' block"
+[[ -f $scene ]] || fail "the guide has no '# file: lame_kg.toml' block"
 generator=()
 command -v ninja >/dev/null 2>&1 && generator=(-G Ninja)
 cxx=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build/CMakeCache.txt")
 compiler=()
 [[ -n $cxx ]] && compiler=(-DCMAKE_CXX_COMPILER="$cxx")
-run_logged "$work/configure.log" cmake "${generator[@]}" -S "$example_src" -B "$example_build" \
-  -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" "${compiler[@]}"
-grep -q "Stratum_DIR:PATH=$libdir/cmake/Stratum" "$example_build/CMakeCache.txt" ||
-  fail "find_package(Stratum) did not pick the installed package ($(grep '^Stratum_DIR' "$example_build/CMakeCache.txt"))"
-run_logged "$work/build.log" cmake --build "$example_build"
+builds=()
+for p in "${projects[@]}"; do
+  rel=${p#"$example_src"}
+  b=$example_build$rel
+  log=$work/build${rel//\//_}
+  step "build guide project ${rel:-/} against $prefix"
+  # -Werror: the guide's code must compile cleanly, as its readers' projects will.
+  run_logged "$log.configure.log" cmake "${generator[@]}" -S "$p" -B "$b" \
+    -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_FLAGS=-Werror "${compiler[@]}"
+  grep -q "Stratum_DIR:PATH=$libdir/cmake/Stratum" "$b/CMakeCache.txt" ||
+    fail "find_package(Stratum) did not pick the installed package ($(grep '^Stratum_DIR' "$b/CMakeCache.txt"))"
+  run_logged "$log.log" cmake --build "$b"
+  builds+=("$b")
+done
 plugin_dir=$example_build/plugins
 [[ -f $plugin_dir/example_kg_elastic.so ]] || fail "no $plugin_dir/example_kg_elastic.so"
 grep -qx "material example_kg_elastic" "$plugin_dir/example_kg_elastic.plugin" ||
   fail "the manifest $plugin_dir/example_kg_elastic.plugin does not list 'material example_kg_elastic'"
 echo "   built example_kg_elastic.so, its manifest and test_kg_elastic"
 
-stratum=$prefix/bin/stratum
-# Only the example's directory on the search path: everything else must come from the install.
-export STRATUM_PLUGIN_PATH=$plugin_dir
+# Only the guide's plugin folders on the search path: everything else must come from the install.
+plugin_path=$(find "$example_build" -name '*.plugin' -printf '%h\n' | sort -u | paste -sd:)
+export STRATUM_PLUGIN_PATH=$plugin_path
 
 # --- 3. the installed program finds both kinds of plugins -------------------------
 step "stratum plugins --describe"
@@ -124,17 +185,28 @@ fi
 grep -q "example_kg_elastic" <<<"$err" || fail "the unknown-material error does not name example_kg_elastic: $err"
 echo "   without STRATUM_PLUGIN_PATH: $err"
 
-# --- 5. run the scene --------------------------------------------------------------
-step "stratum check / run $scene"
-out=$("$stratum" check "$scene") || fail "stratum check $scene failed"
-echo "   $out"
-out=$("$stratum" run "$scene" --out "$work/out") || fail "stratum run $scene failed"
-sed 's/^/   /' <<<"$out"
-grep -q "^done: 1 steps" <<<"$out" || fail "stratum run did not report 'done: 1 steps'"
-[[ -s $work/out/lame_kg.pvd ]] || fail "no $work/out/lame_kg.pvd"
-ls "$work"/out/lame_kg_*.vtu >/dev/null 2>&1 || fail "no .vtu files in $work/out"
+# --- 5. run the guide's scenes: each states [[checks]] and passes them --------------
+while IFS= read -r s; do
+  name=$(basename "$s" .toml)
+  step "stratum check / run ${s#"$example_src"/}"
+  out=$("$stratum" check "$s") || fail "stratum check $s failed"
+  echo "   $out"
+  grep -q '^\[\[checks\]\]' "$s" || fail "the guide's scene $s states no [[checks]]"
+  code=0
+  out=$("$stratum" run "$s" --out "$work/out/$name") || code=$?
+  sed 's/^/   /' <<<"$out"
+  ((code == 0)) || fail "stratum run $s exited with status $code"
+  grep -q "^check .*: pass$" <<<"$out" || fail "stratum run $s printed no passed check"
+  if grep -q "^check .*: FAIL$" <<<"$out"; then fail "a check of $s failed"; fi
+done < <(find "$example_src" -name '*.toml' | sort)
+[[ -s $work/out/lame_kg/lame_kg.pvd ]] || fail "no $work/out/lame_kg/lame_kg.pvd"
+ls "$work"/out/lame_kg/lame_kg_*.vtu >/dev/null 2>&1 || fail "no .vtu files in $work/out/lame_kg"
 
-step "test_kg_elastic (material checks, Lamé u(a) against the closed form)"
+step "the guide's tests (ctest): test_kg_elastic, material checks and Lamé u(a) against the closed form"
+for b in "${builds[@]}"; do
+  run_logged "$work/ctest.log" ctest --test-dir "$b" --output-on-failure
+done
+[[ -x $example_build/test_kg_elastic ]] || fail "the guide's project built no test_kg_elastic"
 if ! "$example_build/test_kg_elastic" "$scene" | sed 's/^/   /'; then
   fail "test_kg_elastic failed"
 fi

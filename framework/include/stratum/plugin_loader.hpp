@@ -6,9 +6,11 @@
 // when a scene names one of its factories (or when all are listed).
 //
 // Search path: the directories in $STRATUM_PLUGIN_PATH (':'-separated), then
-// the installed plugin directory next to libstratum, then the build tree's.
-// Like PATH, the first directory providing a name wins; two libraries in the
-// same directory providing the same name are an error naming both.
+// the plugin directory of the libstratum that runs: <libdir>/stratum/plugins for
+// an installed library, the build tree's plugins folder for the library of a
+// build tree (told apart by where the running libstratum is; an installed
+// library never searches a build tree). Like PATH, the first directory providing a name wins; two libraries
+// in the same directory providing the same name are an error naming both.
 #pragma once
 
 #include "stratum/registry.hpp"

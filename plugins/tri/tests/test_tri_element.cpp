@@ -380,7 +380,14 @@ TEST_CASE("tri: Lamé cylinder, axisymmetric, the scene inputs/verification/lame
   o.plugin_dirs = {STRATUM_PLUGIN_DIR};
   o.write_output = false;
   auto an = Analysis::from_file(std::string(STRATUM_SOURCE_DIR) + "/inputs/verification/lame_tri6.toml", o);
-  REQUIRE(an->run().outcome.ok());
+  const RunSummary summary = an->run();
+  REQUIRE(summary.outcome.ok());
+  // The scene's own [[checks]] (u(a), u(b) against the closed form) pass.
+  CHECK(summary.checks.size() == 2);
+  for (const auto& c : summary.checks) {
+    INFO(c.label << " = " << c.value << ", expected " << c.expected << " +- " << c.tolerance);
+    CHECK(c.pass);
+  }
   const Model& m = an->model();
   const LameExact ex;
   // The mesh (h = 0.125, about 100 6-node triangles across the 1 x 0.5 m wall): quadratic
