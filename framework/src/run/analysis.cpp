@@ -1,0 +1,45 @@
+// Analysis: from a scene file to a built model (scene/read_scene.cpp) and a run (run/run.cpp).
+#include "run/analysis_impl.hpp"
+#include "toml_check.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace stratum {
+
+Analysis::Analysis(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Analysis::~Analysis() = default;
+
+std::unique_ptr<Analysis> Analysis::from_string(const std::string& text, const std::string& path,
+                                                RunOptions options) {
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    throw Error(io::location(e.source()), "malformed TOML: " + std::string(e.description()));
+  }
+  auto impl = std::make_unique<Impl>();
+  impl->path = path;
+  impl->options = std::move(options);
+  impl->build(root);
+  return std::unique_ptr<Analysis>(new Analysis(std::move(impl)));
+}
+
+std::unique_ptr<Analysis> Analysis::from_file(const std::string& path, RunOptions options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in || fs::is_directory(path))
+    throw Error(SourceLocation{path, 0, 0}, "cannot open scene file '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return from_string(ss.str(), path, std::move(options));
+}
+
+const Model& Analysis::model() const { return impl_->model; }
+Model& Analysis::model() { return impl_->model; }
+std::vector<std::string> Analysis::opened_libraries() const { return impl_->catalog->opened(); }
+std::string Analysis::title() const { return impl_->title; }
+
+} // namespace stratum
