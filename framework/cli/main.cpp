@@ -145,8 +145,8 @@ const char* help_of(const std::string& cmd) {
 
 constexpr const char* commands[] = {"run", "check", "point", "fit", "sweep", "plugins", "help", "--version"};
 
-constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,
-                                PluginKind::solver};
+constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material,     PluginKind::contact_law,
+                                PluginKind::solver,  PluginKind::stage_action, PluginKind::mesh_generator};
 
 void describe(const Registry& reg, PluginKind kind, const std::string& name, bool full) {
   std::string summary, library;

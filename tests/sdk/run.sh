@@ -12,7 +12,9 @@
 # 4. checks that the schema's range reaches the user as a located error;
 # 5. `stratum check` and `stratum run --out` a Lamé cylinder made of the example
 #    material, and runs the example's own test program, which compares u(a)
-#    with the closed form.
+#    with the closed form;
+# 6. the same cylinder from the example's stage action and mesh generator plugins
+#    (lame_kg_staged.toml): check, run, located schema errors, u(a) against the closed form.
 # Exits non-zero with a message naming the failed check.
 set -euo pipefail
 
@@ -137,6 +139,35 @@ ls "$work"/out/lame_kg_*.vtu >/dev/null 2>&1 || fail "no .vtu files in $work/out
 step "test_kg_elastic (material checks, Lamé u(a) against the closed form)"
 if ! "$example_build/test_kg_elastic" "$scene" | sed 's/^/   /'; then
   fail "test_kg_elastic failed"
+fi
+
+# --- 6. a stage action and a mesh generator from out-of-tree plugins ------------------
+staged=$example_src/lame_kg_staged.toml
+step "stage action and mesh generator plugins: $staged"
+grep -qx "stage_action example_cavity_pressure" "$plugin_dir/example_cavity_pressure.plugin" ||
+  fail "the manifest example_cavity_pressure.plugin does not list 'stage_action example_cavity_pressure'"
+grep -qx "mesh_generator example_ring" "$plugin_dir/example_ring_mesher.plugin" ||
+  fail "the manifest example_ring_mesher.plugin does not list 'mesh_generator example_ring'"
+out=$("$stratum" check "$staged") || fail "stratum check $staged failed"
+echo "   $out"
+out=$("$stratum" run "$staged" --out "$work/out_staged") || fail "stratum run $staged failed"
+grep -q "^done: 1 steps" <<<"$out" || fail "stratum run $staged did not report 'done: 1 steps'"
+# The action's own schema: a misspelt key is a located error with a suggestion.
+sed 's/^p = 1.0$/pressure = 1.0/' "$staged" >"$work/bad_action.toml"
+if err=$("$stratum" check "$work/bad_action.toml" 2>&1); then
+  fail "stratum check accepted the unknown key 'pressure' in the example_cavity_pressure action"
+fi
+echo "   $err"
+grep -q "bad_action.toml:[0-9]*:[0-9]*.*pressure" <<<"$err" || fail "the error does not name bad_action.toml:line:col and the key"
+# The generator's own schema: a value out of range is located in [mesh.example_ring].
+sed 's/^height = 0.5$/height = -0.5/' "$staged" >"$work/bad_mesh.toml"
+if err=$("$stratum" check "$work/bad_mesh.toml" 2>&1); then
+  fail "stratum check accepted height = -0.5 for example_ring"
+fi
+echo "   $err"
+grep -q "bad_mesh.toml:[0-9]*:[0-9]*.*height" <<<"$err" || fail "the error does not name bad_mesh.toml:line:col and height"
+if ! "$example_build/test_kg_elastic" "$staged" | sed 's/^/   /'; then
+  fail "test_kg_elastic $staged failed"
 fi
 
 echo "sdk test passed"

@@ -66,8 +66,11 @@ struct Analysis::Impl {
   void read_domains(const toml::table& root);
   void read_constraints(const toml::table& root);
   void read_stages(const toml::table& root);
-  stage::LoadSpec parse_load(const toml::table& t, const std::string& where_ctx,
-                             const std::string& default_name);
+  /// One [[stages.actions]] (or [[loads]]) table: its action from the registry by `type`,
+  /// checked against the scene as read so far.
+  std::unique_ptr<StageAction> parse_action(const toml::table& at, const std::string& actx,
+                                            const std::string& default_load_name,
+                                            std::set<std::string>& load_names, bool& reset_after);
   stage::Stage parse_stage(const toml::table& t, const std::string& ctx, std::set<std::string>& load_names);
   /// Runs stage k; false when the run ends here (failure in summary.outcome, or an early stop).
   bool run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,

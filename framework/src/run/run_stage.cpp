@@ -14,7 +14,6 @@ namespace stratum {
 
 bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
                                std::vector<std::array<double, 3>>& axial_rows) {
-  using stage::Action;
   stage::Stage& st = stages[k];
   stage_name = st.name;
   stage_number = static_cast<int>(k) + 1;
@@ -23,50 +22,11 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   m.prescribed = k == 0 ? initial_prescribed : Eigen::VectorXd::Zero(m.u.size());
   m.prescribed_base = m.u;
 
-  // ---- actions, in order
-  const stage::LoadSpec* head = nullptr;
-  std::vector<int> head_disp; // nodes of a displacement-controlled pile head
-  for (const Action& a : st.actions) {
-    switch (a.kind) {
-    case Action::Kind::geostatic:
-      stage::set_geostatic(m, m.mesh.cell_sets.at(a.cells), a.gamma, a.K0, a.surface);
-      loads.push_back(a.load);
-      break;
-    case Action::Kind::deactivate:
-      for (int c : m.mesh.cell_sets.at(a.cells)) m.active[static_cast<std::size_t>(c)] = 0;
-      break;
-    case Action::Kind::activate: {
-      const auto& cells = m.mesh.cell_sets.at(a.cells);
-      for (int c : cells) m.active[static_cast<std::size_t>(c)] = 1;
-      stage::set_placed_stress(m, cells, a.hydrostatic, a.gamma, a.surface);
-      break;
-    }
-    case Action::Kind::add_load:
-      loads.push_back(a.load);
-      if (std::isfinite(a.load.total_force)) head = &a.load;
-      break;
-    case Action::Kind::remove_load:
-      std::erase_if(loads, [&](const stage::LoadSpec& l) { return l.name == a.name; });
-      break;
-    case Action::Kind::displacement:
-      if (!a.cells.empty()) { // head displacement of a pile: its current top nodes
-        stage::LoadSpec top;
-        top.set = a.cells, top.top_of_cells = true;
-        head_disp = stage::load_nodes(m, top);
-        for (int n : head_disp) m.constrained[2 * n + 1] = 1, m.prescribed[2 * n + 1] = a.uy;
-        break;
-      }
-      for (int n : m.mesh.node_sets.at(a.nodes)) {
-        if (std::isfinite(a.ux)) m.constrained[2 * n] = 1, m.prescribed[2 * n] = a.ux;
-        if (std::isfinite(a.uy)) m.constrained[2 * n + 1] = 1, m.prescribed[2 * n + 1] = a.uy;
-      }
-      break;
-    case Action::Kind::reset_displacements:
-      m.u.setZero();
-      m.prescribed_base.setZero();
-      break;
-    }
-  }
+  // ---- actions, in order (stratum/stage_action.hpp)
+  StageState actions{m, loads, nullptr, {}};
+  for (const auto& a : st.actions) a->apply(actions);
+  const LoadSpec* head = actions.head_load;
+  const std::vector<int>& head_disp = actions.head_nodes; // nodes of a displacement-controlled pile head
 
   // ---- the stage's problem: equilibrium at its start, the target load at its end
   m.rebuild_dofs();
@@ -88,7 +48,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   }
   for (auto& dm : m.domains) dm.states.revert();
   Eigen::VectorXd target = Eigen::VectorXd::Zero(m.u.size());
-  for (const auto& l : loads) stage::add_load(m, l, target);
+  for (const auto& l : loads) add_load(m, l, target);
   // Free DOFs: the stage starts in equilibrium with the forces the active cells carry and moves
   // linearly to the target load (this releases the forces of removed cells over the steps).
   // Fixed DOFs carry the target load, so that reactions are final forces.
@@ -102,7 +62,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   const std::vector<int>* monitor = nullptr;
   if (!st.monitor.empty()) monitor = &m.mesh.node_sets.at(st.monitor);
   std::vector<int> head_nodes;
-  if (head) head_nodes = stage::load_nodes(m, *head);
+  if (head) head_nodes = load_nodes(m, *head);
   const bool displaced_head = !head && !head_disp.empty();
   if (displaced_head) head_nodes = head_disp;
   const bool has_head = head || displaced_head;

@@ -1,5 +1,6 @@
 // Reading [materials], [[domains]] and [[constraints]].
 #include "run/analysis_impl.hpp"
+#include "scene/plugin_table.hpp"
 #include "scene/tables.hpp"
 #include "toml_check.hpp"
 
@@ -10,7 +11,6 @@ namespace stratum {
 using io::check_table;
 using io::location;
 using io::require_string;
-using io::show;
 using scene::optional_table;
 using scene::table_list;
 
@@ -25,13 +25,9 @@ void Analysis::Impl::read_domains(const toml::table& root) {
       const auto* t = value.as_table();
       if (!t) throw Error(location(value), ctx + " must be a table");
       const std::string model_name = require_string(*t, "model", ctx);
-      try {
-        catalog->require(registry, PluginKind::material, model_name);
-      } catch (const Error& e) {
-        throw Error(location(*t->get("model")), ctx + " model = \"" + model_name + "\": " + e.message());
-      }
-      const auto& f = registry.material(model_name);
-      materials.push_back(f.create(check_table(*t, f.schema, ctx, {"model"})));
+      materials.push_back(
+          scene::plugin_from_table<Material>(*catalog, registry, model_name, location(*t->get("model")),
+                                             ctx + " model = \"" + model_name + "\"", *t, ctx, {"model"}));
       material_by_name[name] = materials.back().get();
     }
   }
@@ -56,22 +52,11 @@ void Analysis::Impl::read_domains(const toml::table& root) {
       throw Error(location(*t.get("material")),
                   ctx + " material = \"" + material +
                       "\" is not defined; defined: " + key_list(material_by_name, material));
-    try {
-      catalog->require(registry, PluginKind::element, element);
-    } catch (const Error& e) {
-      throw Error(location(*t.get("element")), ctx + " element = \"" + element + "\": " + e.message());
-    }
-    const auto& f = registry.element(element);
-    // The element's formulation follows [analysis] unless the domain states it (then they must agree).
-    const std::string form = model.formulation == Formulation::axisymmetric ? "axisymmetric" : "plane_strain";
-    auto ep = check_table(t, f.schema, ctx, {"cells", "element", "material"});
-    if (f.schema.find("formulation")) {
-      if (const auto* fv = t.get("formulation"); fv && ep.text("formulation") != form)
-        throw Error(location(*fv), ctx + " formulation = " + show(*fv) +
-                                       " contradicts [analysis] formulation = \"" + form + "\"");
-      ep.set("formulation", form, ep.where("formulation"));
-    }
-    elements.push_back(f.create(ep));
+    auto made = scene::plugin_table<Element>(*catalog, registry, element, location(*t.get("element")),
+                                             ctx + " element = \"" + element + "\"", t, ctx,
+                                             {"cells", "element", "material"});
+    scene::follow_formulation(made.factory->schema, t, made.params, model.formulation, ctx);
+    elements.push_back(made.create());
     Domain dm;
     dm.name = cells;
     dm.set_id = static_cast<int>(i);

@@ -1,10 +1,13 @@
 // Reading [mesh]: generated blocks, a Gmsh file, or a registered mesh generator.
+#include "meshers/builtin_generators.hpp"
 #include "run/analysis_impl.hpp"
+#include "scene/plugin_table.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"
 #include "stratum/mesh_io.hpp"
 #include "toml_check.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -23,74 +26,14 @@ using namespace scene;
 void Analysis::Impl::read_mesh(const toml::table& root, const SourceLocation& pile_cells_at) {
   {
     const auto& mt = table_at(root, "mesh", "scene");
-    const auto mp = check_table(mt, mesh_schema(), "[mesh]", {"blocks", "pile"});
-    if (mp.text("generator") == "axisymmetric_pile") {
-      if (model.formulation != Formulation::axisymmetric)
-        throw Error(
-            mp.where("generator"),
-            "[mesh] generator = \"axisymmetric_pile\" needs [analysis] formulation = \"axisymmetric\"");
-      const PileMesh d;
-      Schema ps;
-      ps.real("radius", "m", "pile radius").greater_than(0).defaults_to(d.radius);
-      ps.real("length", "m", "pile length below the ground surface y = 0")
-          .greater_than(0)
-          .defaults_to(d.length);
-      ps.real("near_radius", "m", "outer radius of the near (nonlinear) zone")
-          .greater_than(0)
-          .defaults_to(d.near_radius);
-      ps.real("near_depth", "m", "depth of the near zone").greater_than(0).defaults_to(d.near_depth);
-      ps.real("domain_radius", "m", "radius of the model").greater_than(0).defaults_to(d.domain_radius);
-      ps.real("domain_depth", "m", "depth of the model").greater_than(0).defaults_to(d.domain_depth);
-      ps.integer("n_pile", "-", "cells across the pile radius")
-          .at_least(1)
-          .defaults_to(static_cast<long long>(d.n_pile));
-      ps.integer("n_shaft", "-", "cells along the pile")
-          .at_least(1)
-          .defaults_to(static_cast<long long>(d.n_shaft));
-      ps.integer("n_near", "-", "cells across the near zone")
-          .at_least(1)
-          .defaults_to(static_cast<long long>(d.n_near));
-      ps.integer("n_far", "-", "cells across the far zone")
-          .at_least(1)
-          .defaults_to(static_cast<long long>(d.n_far));
-      ps.integer("n_below", "-", "cells from the pile base to near_depth")
-          .at_least(1)
-          .defaults_to(static_cast<long long>(d.n_below));
-      ps.integer("n_deep", "-", "cells from near_depth to domain_depth")
-          .at_least(1)
-          .defaults_to(static_cast<long long>(d.n_deep));
-      ps.real("grade_near", "-", "outer/inner cell width in the near zone")
-          .greater_than(0)
-          .defaults_to(d.grade_near);
-      ps.real("grade_far", "-", "outer/inner cell width in the far zone")
-          .greater_than(0)
-          .defaults_to(d.grade_far);
-      ps.real("grade_below", "-", "lower/upper cell height below the base")
-          .greater_than(0)
-          .defaults_to(d.grade_below);
-      ps.real("grade_deep", "-", "lower/upper cell height in the deep zone")
-          .greater_than(0)
-          .defaults_to(d.grade_deep);
-      const auto pp = check_table(optional_table(mt, "pile"), ps, "[mesh.pile]");
-      PileMesh spec;
-      spec.radius = pp.real("radius"), spec.length = pp.real("length");
-      spec.near_radius = pp.real("near_radius"), spec.near_depth = pp.real("near_depth");
-      spec.domain_radius = pp.real("domain_radius"), spec.domain_depth = pp.real("domain_depth");
-      spec.nodes_per_cell = static_cast<int>(mp.integer("nodes_per_cell"));
-      spec.n_pile = static_cast<int>(pp.integer("n_pile")),
-      spec.n_shaft = static_cast<int>(pp.integer("n_shaft"));
-      spec.n_near = static_cast<int>(pp.integer("n_near")),
-      spec.n_far = static_cast<int>(pp.integer("n_far"));
-      spec.n_below = static_cast<int>(pp.integer("n_below")),
-      spec.n_deep = static_cast<int>(pp.integer("n_deep"));
-      spec.grade_near = pp.real("grade_near"), spec.grade_far = pp.real("grade_far");
-      spec.grade_below = pp.real("grade_below"), spec.grade_deep = pp.real("grade_deep");
-      try {
-        model.mesh = generate_pile(spec);
-      } catch (const Error& e) {
-        throw Error(location(optional_table(mt, "pile")), e.message());
-      }
-    } else if (mp.text("generator") == "blocks") {
+    std::string generator; // a generator's parameters are in [mesh.<its table>]
+    if (const auto* g = mt.get("generator"); g && g->is_string()) generator = g->as_string()->get();
+    const bool own_reader = generator == "blocks" || generator == "gmsh";
+    const std::string sub = own_reader || generator.empty() ? "" : generator_table(generator);
+    std::vector<std::string_view> extra{"blocks"};
+    if (!sub.empty()) extra.push_back(sub);
+    const auto mp = check_table(mt, mesh_schema(), "[mesh]", extra);
+    if (mp.text("generator") == "blocks") {
       const int npc = static_cast<int>(mp.integer("nodes_per_cell"));
       if (npc != 4 && npc != 8)
         throw Error(mp.where("nodes_per_cell"),
@@ -133,6 +76,33 @@ void Analysis::Impl::read_mesh(const toml::table& root, const SourceLocation& pi
           const double r = x.x(), t = x.y() * std::numbers::pi / 180.0;
           x = Eigen::Vector2d(r * std::cos(t), r * std::sin(t));
         }
+    } else if (generator != "gmsh") {
+      if (mt.get("blocks"))
+        throw Error(location(*mt.get("blocks")), "[mesh] blocks are only used with generator = \"blocks\"");
+      const std::string what = "[mesh] generator = \"" + generator + "\"";
+      if (!registry.has(PluginKind::mesh_generator, generator)) {
+        auto known = catalog->known(PluginKind::mesh_generator);
+        if (std::find(known.begin(), known.end(), generator) == known.end()) {
+          for (const auto& n : registry.names(PluginKind::mesh_generator)) known.push_back(n);
+          std::string list = "blocks, gmsh";
+          for (const auto& n : known) list += ", " + n;
+          known.insert(known.begin(), {"blocks", "gmsh"});
+          throw Error(mp.where("generator"),
+                      what + " is not allowed; allowed: one of: " + list + did_you_mean(generator, known));
+        }
+      }
+      const auto made =
+          scene::plugin_table<MeshGenerator>(*catalog, registry, generator, mp.where("generator"), what,
+                                             optional_table(mt, sub), "[mesh." + sub + "]");
+      const auto mesher = made.create();
+      try {
+        model.mesh =
+            mesher->generate(MeshRequest{model.formulation, static_cast<int>(mp.integer("nodes_per_cell"))});
+      } catch (const Error& e) {
+        if (e.where().known()) throw;
+        const toml::node* t = mt.get(sub);
+        throw Error(t ? location(*t) : mp.where("generator"), e.message());
+      }
     } else {
       if (mt.get("blocks"))
         throw Error(location(*mt.get("blocks")), "[mesh] blocks are only used with generator = \"blocks\"");

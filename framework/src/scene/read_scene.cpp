@@ -1,8 +1,11 @@
 // Reading a scene: the top level, the plugin path, [analysis], [convergence], [output] and the
 // solver; the other sections in read_mesh.cpp, read_domains.cpp and read_stages.cpp.
+#include "meshers/builtin_generators.hpp"
 #include "run/analysis_impl.hpp"
+#include "scene/plugin_table.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"
+#include "stages/builtin_actions.hpp"
 #include "toml_check.hpp"
 #include "worker_pool.hpp"
 
@@ -17,10 +20,13 @@ namespace stratum {
 using io::check_table;
 using io::location;
 using scene::optional_table;
-using scene::table_list;
 using namespace scene;
 
 void Analysis::Impl::build(const toml::table& root) {
+  // The framework's own stage actions and mesh generators are registered like a plugin's.
+  stage::register_builtin_actions(registry);
+  register_builtin_mesh_generators(registry);
+
   // ---- top level
   static const std::vector<std::string_view> top_keys{
       "title", "analysis", "convergence", "solver",  "mesh",         "materials",  "domains", "constraints",
@@ -103,16 +109,12 @@ void Analysis::Impl::build(const toml::table& root) {
   // ---- solver plugin
   {
     const std::string name = ap.text("solver");
-    try {
-      catalog->require(registry, PluginKind::solver, name);
-    } catch (const Error& e) {
-      throw Error(ap.where("solver").known() ? ap.where("solver") : location(root),
-                  "[analysis] solver = \"" + name + "\": " + e.message());
-    }
-    const auto& f = registry.solver(name);
-    solver_factory = &f;
-    solver_params = check_table(optional_table(root, "solver"), f.schema, "[solver]");
-    solver = f.create(solver_params); // checks the parameters now; each stage gets its own (run_stage)
+    const auto made = scene::plugin_table<Solver>(
+        *catalog, registry, name, ap.where("solver").known() ? ap.where("solver") : location(root),
+        "[analysis] solver = \"" + name + "\"", optional_table(root, "solver"), "[solver]");
+    solver_factory = made.factory;
+    solver_params = made.params;
+    solver = made.create(); // checks the parameters now; each stage gets its own (run_stage)
   }
 
   read_mesh(root, pile_cells_at);

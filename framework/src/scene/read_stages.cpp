@@ -1,8 +1,11 @@
 // Reading [[stages]] (or the [[loads]] of a scene without stages) and what a stage inherits.
 #include "run/analysis_impl.hpp"
+#include "scene/plugin_table.hpp"
 #include "scene/tables.hpp"
+#include "stages/builtin_actions.hpp"
 #include "toml_check.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -57,12 +60,17 @@ void Analysis::Impl::read_stages(const toml::table& root) {
     st.every = every;
     st.vtk = vtk;
     st.checkpoint = false;
+    // [[loads]]: the loads of a scene without stages, read by the pressure, force and gravity actions.
     for (std::size_t i = 0; i < legacy_loads.size(); ++i) {
-      stage::Action a;
-      a.kind = stage::Action::Kind::add_load;
-      a.where = location(*legacy_loads[i]);
-      a.load = parse_load(*legacy_loads[i], "[[loads]]", "load#" + std::to_string(i + 1));
-      st.actions.push_back(a);
+      const auto& t = *legacy_loads[i];
+      const std::string type = require_string(t, "type", "[[loads]]");
+      const std::string ctx = "[[loads]] type = \"" + type + "\"";
+      if (type == "load") throw Error(location(*t.get("type")), ctx + " is only allowed as a stage action");
+      if (type != "pressure" && type != "force" && type != "gravity")
+        throw Error(location(*t.get("type")),
+                    ctx + " is not allowed; allowed: one of: pressure, force, gravity");
+      st.actions.push_back(
+          parse_action(t, "[[loads]]", "load#" + std::to_string(i + 1), load_names, st.reset_after));
     }
     stages.push_back(std::move(st));
   } else {
@@ -96,90 +104,35 @@ void Analysis::Impl::read_stages(const toml::table& root) {
   }
 }
 
-stage::LoadSpec Analysis::Impl::parse_load(const toml::table& t, const std::string& where_ctx,
-                                           const std::string& default_name) {
-  const std::string type = require_string(t, "type", where_ctx);
-  const std::string ctx = where_ctx + " type = \"" + type + "\"";
-  stage::LoadSpec spec;
-  auto check_set = [&](const auto& sets, const Params& p, const char* key, const char* what) {
-    if (!sets.count(p.text(key)))
-      throw Error(p.where(key).known() ? p.where(key) : location(t),
-                  ctx + " " + key + " = \"" + p.text(key) + "\" is not " + what +
-                      " of the mesh; known: " + key_list(sets, p.text(key)));
-  };
-  if (type == "pressure") {
-    Schema s;
-    s.text("name", {}, "name by which a later stage removes the load").defaults_to(default_name);
-    s.text("edges", {}, "edge set");
-    s.real("p", "kPa", "normal pressure at and above the surface, positive pushing into the body")
-        .defaults_to(0.0);
-    s.real("gamma", "kN/m3", "pressure gradient with depth below `surface` (fresh concrete: its unit weight)")
-        .at_least(0)
-        .defaults_to(0.0);
-    s.real("surface", "m", "level y where the depth-dependent part starts").defaults_to(0.0);
-    s.real("critical_depth", "m", "depth below which the pressure stops growing (bilinear envelope)")
-        .greater_than(0)
-        .defaults_to(std::numeric_limits<double>::infinity());
-    const auto p = check_table(t, s, ctx, {"type"});
-    check_set(model.mesh.edge_sets, p, "edges", "an edge set");
-    spec.kind = stage::LoadSpec::Kind::pressure;
-    spec.name = p.text("name"), spec.set = p.text("edges");
-    spec.p = p.real("p"), spec.gamma = p.real("gamma"), spec.surface = p.real("surface");
-    spec.critical_depth = p.real("critical_depth");
-  } else if (type == "load") {
-    Schema s;
-    s.text("name", {}, "name by which a later stage removes the load").defaults_to(std::string("head"));
-    s.text("edges", {}, "edge set carrying the load").defaults_to(std::string());
-    s.text("cells", {}, "or: a cell set whose top faces carry it (a pile head)").defaults_to(std::string());
-    s.real("force", "kN", "total downward force at the end of the stage (axisymmetric: whole circle)");
-    const auto p = check_table(t, s, ctx, {"type"});
-    if (p.text("edges").empty() == p.text("cells").empty())
-      throw Error(location(t),
-                  ctx + " needs exactly one of edges = \"<edge set>\" or cells = \"<cell set>\"");
-    spec.kind = stage::LoadSpec::Kind::pressure;
-    spec.name = p.text("name");
-    if (!p.text("edges").empty()) {
-      check_set(model.mesh.edge_sets, p, "edges", "an edge set");
-      spec.set = p.text("edges");
-    } else {
-      check_set(model.mesh.cell_sets, p, "cells", "a cell set");
-      spec.set = p.text("cells");
-      spec.top_of_cells = true;
+std::unique_ptr<StageAction> Analysis::Impl::parse_action(const toml::table& at, const std::string& actx,
+                                                          const std::string& default_load_name,
+                                                          std::set<std::string>& load_names,
+                                                          bool& reset_after) {
+  const std::string type = require_string(at, "type", actx);
+  const std::string ctx = actx + " type = \"" + type + "\"";
+  const SourceLocation type_at = location(*at.get("type"));
+  if (!registry.has(PluginKind::stage_action, type)) {
+    const auto plugins = catalog->known(PluginKind::stage_action);
+    if (std::find(plugins.begin(), plugins.end(), type) == plugins.end()) {
+      std::vector<std::string> all = stage::builtin_action_types();
+      for (const auto& list : {registry.names(PluginKind::stage_action), plugins})
+        for (const auto& n : list)
+          if (std::find(all.begin(), all.end(), n) == all.end()) all.push_back(n);
+      std::string allowed;
+      for (const auto& n : all) allowed += (allowed.empty() ? "" : ", ") + n;
+      throw Error(type_at, ctx + " is not allowed; allowed: one of: " + allowed + did_you_mean(type, all));
     }
-    spec.total_force = p.real("force");
-  } else if (type == "force") {
-    Schema s;
-    s.text("name", {}, "name by which a later stage removes the load").defaults_to(default_name);
-    s.text("nodes", {}, "node set");
-    s.real("fx", "kN", "force per node along x (axisymmetric: total over the circle)").defaults_to(0.0);
-    s.real("fy", "kN", "force per node along y (axisymmetric: total over the circle)").defaults_to(0.0);
-    const auto p = check_table(t, s, ctx, {"type"});
-    check_set(model.mesh.node_sets, p, "nodes", "a node set");
-    spec.kind = stage::LoadSpec::Kind::force;
-    spec.name = p.text("name"), spec.set = p.text("nodes");
-    spec.fx = p.real("fx"), spec.fy = p.real("fy");
-  } else if (type == "gravity") {
-    Schema s;
-    s.text("name", {}, "name by which a later stage removes the load").defaults_to(default_name);
-    s.text("cells", {}, "cell set (only its active cells are loaded)").defaults_to(std::string("all"));
-    s.real("gamma", "kN/m3", "unit weight, acting downwards (-y)").at_least(0);
-    const auto p = check_table(t, s, ctx, {"type"});
-    check_set(model.mesh.cell_sets, p, "cells", "a cell set");
-    spec.kind = stage::LoadSpec::Kind::gravity;
-    spec.name = p.text("name"), spec.set = p.text("cells");
-    spec.gamma = p.real("gamma");
-  } else {
-    throw Error(location(*t.get("type")), ctx + " is not allowed; allowed: one of: pressure, force, gravity" +
-                                              std::string(where_ctx == "[[loads]]" ? "" : ", load"));
   }
-  if (where_ctx == "[[loads]]" && type == "load")
-    throw Error(location(*t.get("type")), ctx + " is only allowed as a stage action");
-  return spec;
+  auto action =
+      scene::plugin_from_table<StageAction>(*catalog, registry, type, type_at, ctx, at, ctx, {"type"});
+  StageCheck check{model.mesh, ctx, location(at), load_names, default_load_name, false};
+  action->check(check);
+  reset_after = reset_after || check.reset_after;
+  return action;
 }
 
 stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string& ctx,
                                          std::set<std::string>& load_names) {
-  using stage::Action;
   Schema s;
   s.text("name", {}, "stage name (checkpoints and output are named after it)");
   s.integer("steps", "-", "equal load increments of the stage").at_least(1).defaults_to(1LL);
@@ -248,111 +201,9 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
 
   const auto actions = table_list(t, "actions");
   for (std::size_t i = 0; i < actions.size(); ++i) {
-    const auto& at = *actions[i];
     const std::string actx = ctx + " [[stages.actions]] #" + std::to_string(i + 1);
-    const std::string type = require_string(at, "type", actx);
-    Action a;
-    a.where = location(at);
-    auto cell_set = [&](const Params& q, const char* key) {
-      if (!model.mesh.cell_sets.count(q.text(key)))
-        throw Error(q.where(key).known() ? q.where(key) : a.where,
-                    actx + " " + key + " = \"" + q.text(key) +
-                        "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
-      return q.text(key);
-    };
-    if (type == "geostatic") {
-      Schema g;
-      g.text("cells", {}, "cells that receive the initial stress and their self-weight")
-          .defaults_to(std::string("all"));
-      g.real("gamma", "kN/m3", "unit weight").greater_than(0);
-      g.real("K0", "-", "earth pressure coefficient at rest, sigma_h = K0 sigma_v").greater_than(0);
-      g.real("surface", "m", "ground level y").defaults_to(0.0);
-      g.text("name", {}, "name of the self-weight load it adds").defaults_to(std::string("self_weight"));
-      const auto q = check_table(at, g, actx + " type = \"geostatic\"", {"type"});
-      a.kind = Action::Kind::geostatic;
-      a.cells = cell_set(q, "cells");
-      a.gamma = q.real("gamma"), a.K0 = q.real("K0"), a.surface = q.real("surface");
-      a.load.kind = stage::LoadSpec::Kind::gravity;
-      a.load.name = q.text("name"), a.load.set = a.cells, a.load.gamma = a.gamma;
-      if (!load_names.insert(a.load.name).second)
-        throw Error(a.where, actx + " adds a load named \"" + a.load.name + "\", which is already applied");
-      st.reset_after = true;
-    } else if (type == "deactivate" || type == "activate") {
-      Schema g;
-      g.text("cells", {}, "cell set");
-      if (type == "activate") {
-        g.text(
-             "stress", {"zero", "hydrostatic"},
-             "initial stress of the placed cells: none, or a fluid's -gamma (surface - y) in all directions")
-            .defaults_to(std::string("zero"));
-        g.real("gamma", "kN/m3", "unit weight of the fluid for stress = \"hydrostatic\"")
-            .at_least(0)
-            .defaults_to(0.0);
-        g.real("surface", "m", "fluid surface level y").defaults_to(0.0);
-      }
-      const auto q = check_table(at, g, actx + " type = \"" + type + "\"", {"type"});
-      a.kind = type == "activate" ? Action::Kind::activate : Action::Kind::deactivate;
-      a.cells = cell_set(q, "cells");
-      if (type == "activate") {
-        a.hydrostatic = q.text("stress") == "hydrostatic";
-        a.gamma = q.real("gamma"), a.surface = q.real("surface");
-      }
-    } else if (type == "remove") {
-      Schema g;
-      g.text("name", {}, "name of an applied load");
-      const auto q = check_table(at, g, actx + " type = \"remove\"", {"type"});
-      if (!load_names.erase(q.text("name"))) {
-        std::string known;
-        for (const auto& n : load_names) known += (known.empty() ? "" : ", ") + n;
-        throw Error(q.where("name"),
-                    actx + " name = \"" + q.text("name") +
-                        "\" is not an applied load; applied: " + (known.empty() ? "(none)" : known));
-      }
-      a.kind = Action::Kind::remove_load;
-      a.name = q.text("name");
-    } else if (type == "displacement") {
-      Schema g;
-      g.text("nodes", {}, "node set");
-      g.real("ux", "m", "x displacement increment over the stage").defaults_to(0.0);
-      g.real("uy", "m", "y displacement increment over the stage").defaults_to(0.0);
-      const auto q = check_table(at, g, actx + " type = \"displacement\"", {"type"});
-      if (!model.mesh.node_sets.count(q.text("nodes")))
-        throw Error(q.where("nodes"),
-                    actx + " nodes = \"" + q.text("nodes") +
-                        "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets));
-      if (!at.get("ux") && !at.get("uy"))
-        throw Error(a.where, actx + " prescribes nothing; give ux and/or uy");
-      a.kind = Action::Kind::displacement;
-      a.nodes = q.text("nodes");
-      if (at.get("ux")) a.ux = q.real("ux");
-      if (at.get("uy")) a.uy = q.real("uy");
-    } else if (type == "load" && at.get("settlement")) {
-      // Head displacement: the top faces of a cell set (a pile head) pushed down by `settlement`
-      // over the stage; the head load is then the reaction on those nodes.
-      Schema g;
-      g.text("cells", {}, "cell set whose top faces are pushed down (a pile head)");
-      g.real("settlement", "m", "downward head displacement at the end of the stage").greater_than(0);
-      const auto q = check_table(at, g, actx + " type = \"load\" (head displacement)", {"type"});
-      a.kind = Action::Kind::displacement;
-      a.cells = cell_set(q, "cells");
-      a.uy = -q.real("settlement");
-    } else if (type == "reset_displacements") {
-      (void)check_table(at, Schema{}, actx + " type = \"reset_displacements\"", {"type"});
-      a.kind = Action::Kind::reset_displacements;
-    } else if (type == "pressure" || type == "force" || type == "gravity" || type == "load") {
-      a.kind = Action::Kind::add_load;
-      a.load = parse_load(at, actx, type + "@" + st.name);
-      if (!load_names.insert(a.load.name).second)
-        throw Error(a.where, actx + " adds a load named \"" + a.load.name +
-                                 "\", which is already applied; remove it first or choose another name");
-    } else {
-      throw Error(
-          location(*at.get("type")),
-          actx + " type = \"" + type +
-              "\" is not allowed; allowed: one of: geostatic, deactivate, activate, pressure, load, force, "
-              "gravity, remove, displacement, reset_displacements");
-    }
-    st.actions.push_back(std::move(a));
+    const std::string type = require_string(*actions[i], "type", actx);
+    st.actions.push_back(parse_action(*actions[i], actx, type + "@" + st.name, load_names, st.reset_after));
   }
   return st;
 }

@@ -93,8 +93,9 @@ Schema convergence_schema() {
 
 Schema mesh_schema() {
   Schema s;
-  s.text("generator", {"blocks", "gmsh", "axisymmetric_pile"},
-         "structured graded blocks, a Gmsh file, or the bored-pile mesh ([mesh.pile])");
+  s.text("generator", {},
+         "blocks (structured graded blocks), gmsh (a Gmsh file), or a mesh generator: axisymmetric_pile "
+         "(the bored pile, [mesh.pile]) or a plugin's (its parameters in [mesh.<generator>])");
   s.text("file", {}, "Gmsh .msh 4.1 ASCII file, relative to the scene file").defaults_to(std::string());
   s.integer("nodes_per_cell", "-", "4 (bilinear) or 8 (serendipity) for generated blocks")
       .at_least(4)
