@@ -77,7 +77,7 @@ struct RunSummary {
   /// With [output] pile_cells as well: per recorded level, load_kN, head_mm, pile_shortening_mm,
   /// base_mm, shaft_slip_mean_mm, shaft_slip_top_mm, shaft_load_kN, base_load_kN, each a change
   /// since the start of the loaded stage (curves/settlement_components.csv;
-  /// framework/src/pile_components.hpp).
+  /// framework/src/output/pile_components.hpp).
   std::vector<std::array<double, 8>> settlement_components;
 };
 

@@ -1,6 +1,6 @@
 // One VTK output step: displacements, reactions, cell stresses, the integration-point cloud
 // with the materials' named history variables, and the interface fields.
-#include "run/analysis_impl.hpp"
+#include "analysis_impl.hpp"
 #include "stratum/interfaces.hpp"
 
 #include <filesystem>

@@ -1,7 +1,7 @@
 // diagnostics.csv, the recorders' histories and the pile curves (curves/*.csv).
+#include "analysis_impl.hpp"
 #include "output/pile_components.hpp"
 #include "output/text_file.hpp"
-#include "run/analysis_impl.hpp"
 
 #include <filesystem>
 #include <iomanip>

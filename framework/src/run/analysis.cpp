@@ -1,5 +1,5 @@
 // Analysis: from a scene file to a built model (scene/read_scene.cpp) and a run (run/run.cpp).
-#include "run/analysis_impl.hpp"
+#include "analysis_impl.hpp"
 #include "toml_check.hpp"
 
 #include <filesystem>

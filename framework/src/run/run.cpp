@@ -1,7 +1,7 @@
 // Analysis::run: the stages in order, restart from a checkpoint, a checkpoint after each stage.
+#include "analysis_impl.hpp"
 #include "checkpoint.hpp"
 #include "output_folder.hpp"
-#include "run/analysis_impl.hpp"
 #include "run/timing.hpp"
 
 #include <filesystem>

@@ -1,8 +1,8 @@
 // Running one stage: its actions, its equilibrium problem, its load steps, and what each
 // accepted step records (the pile head, the curves, the VTK step, the recorders).
+#include "analysis_impl.hpp"
 #include "output/pile_components.hpp"
 #include "output/pile_curves.hpp"
-#include "run/analysis_impl.hpp"
 #include "run/static_problem.hpp"
 #include "stratum/interfaces.hpp"
 #include "stratum/step_control.hpp"

@@ -1,5 +1,5 @@
 // Reading [materials], [[domains]] and [[constraints]].
-#include "run/analysis_impl.hpp"
+#include "analysis_impl.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/tables.hpp"
 #include "toml_check.hpp"

@@ -1,6 +1,6 @@
 // Reading [mesh]: generated blocks, a Gmsh file, or a registered mesh generator.
+#include "analysis_impl.hpp"
 #include "meshers/builtin_generators.hpp"
-#include "run/analysis_impl.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"

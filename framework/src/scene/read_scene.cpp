@@ -1,7 +1,7 @@
 // Reading a scene: the top level, the plugin path, [analysis], [convergence], [output] and the
 // solver; the other sections in read_mesh.cpp, read_domains.cpp and read_stages.cpp.
+#include "analysis_impl.hpp"
 #include "meshers/builtin_generators.hpp"
-#include "run/analysis_impl.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"

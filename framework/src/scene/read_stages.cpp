@@ -1,5 +1,5 @@
 // Reading [[stages]] (or the [[loads]] of a scene without stages) and what a stage inherits.
-#include "run/analysis_impl.hpp"
+#include "analysis_impl.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/tables.hpp"
 #include "stages/builtin_actions.hpp"
