@@ -124,7 +124,8 @@ constexpr const char* plugins_help =
     "                                         its type, unit, range, default and meaning\n"
     "       stratum plugins --describe        (or --all) every plugin in full\n"
     "\n"
-    "Plugins are found on STRATUM_PLUGIN_PATH, then in the program's own plugin folder.\n"
+    "Plugins are found on STRATUM_PLUGIN_PATH, then in the program's own plugin folder. The\n"
+    "framework's own stage actions and mesh generators are listed with them (library \"(built in)\").\n"
     "\n"
     "options:\n"
     "  -h, --help   this text\n"
@@ -191,6 +192,7 @@ int plugins(const std::vector<std::string>& args) {
                 "'; allowed: --describe [NAME], --all (see stratum plugins --help)");
   PluginCatalog catalog(PluginCatalog::default_directories());
   Registry reg;
+  register_builtin_factories(reg); // the framework's own stage actions and mesh generators
   catalog.require_all(reg);
   if (one) {
     for (PluginKind k : kinds)

@@ -148,6 +148,12 @@ grep -qx "stage_action example_cavity_pressure" "$plugin_dir/example_cavity_pres
   fail "the manifest example_cavity_pressure.plugin does not list 'stage_action example_cavity_pressure'"
 grep -qx "mesh_generator example_ring" "$plugin_dir/example_ring_mesher.plugin" ||
   fail "the manifest example_ring_mesher.plugin does not list 'mesh_generator example_ring'"
+out=$("$stratum" plugins --describe example_cavity_pressure) ||
+  fail "stratum plugins --describe example_cavity_pressure failed"
+grep -q "^stage_action example_cavity_pressure: " <<<"$out" || fail "the stage action is not described: $out"
+out=$("$stratum" plugins --describe example_ring) || fail "stratum plugins --describe example_ring failed"
+grep -q "^mesh_generator example_ring: " <<<"$out" || fail "the mesh generator is not described: $out"
+grep -q "^  inner_radius  *number  *m " <<<"$out" || fail "example_ring's parameters are not described: $out"
 out=$("$stratum" check "$staged") || fail "stratum check $staged failed"
 echo "   $out"
 out=$("$stratum" run "$staged" --out "$work/out_staged") || fail "stratum run $staged failed"

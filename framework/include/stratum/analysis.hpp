@@ -81,6 +81,10 @@ struct RunSummary {
   std::vector<std::array<double, 8>> settlement_components;
 };
 
+/// Registers the framework's own stage actions and mesh generators, as an Analysis does before
+/// it reads a scene (`stratum plugins` lists them with the plugins' factories).
+void register_builtin_factories(Registry& registry);
+
 class Analysis {
 public:
   /// Reads, validates and builds everything. Throws Error (with file:line:col) on bad input.

@@ -1,5 +1,7 @@
 // Analysis: from a scene file to a built model (scene/read_scene.cpp) and a run (run/run.cpp).
 #include "analysis_impl.hpp"
+#include "meshers/builtin_generators.hpp"
+#include "stages/builtin_actions.hpp"
 #include "toml_check.hpp"
 
 #include <filesystem>
@@ -9,6 +11,11 @@
 namespace fs = std::filesystem;
 
 namespace stratum {
+
+void register_builtin_factories(Registry& registry) {
+  stage::register_builtin_actions(registry);
+  register_builtin_mesh_generators(registry);
+}
 
 Analysis::Analysis(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Analysis::~Analysis() = default;

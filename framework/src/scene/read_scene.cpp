@@ -1,11 +1,9 @@
 // Reading a scene: the top level, the plugin path, [analysis], [convergence], [output] and the
 // solver; the other sections in read_mesh.cpp, read_domains.cpp and read_stages.cpp.
 #include "analysis_impl.hpp"
-#include "meshers/builtin_generators.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"
-#include "stages/builtin_actions.hpp"
 #include "toml_check.hpp"
 #include "worker_pool.hpp"
 
@@ -24,8 +22,7 @@ using namespace scene;
 
 void Analysis::Impl::build(const toml::table& root) {
   // The framework's own stage actions and mesh generators are registered like a plugin's.
-  stage::register_builtin_actions(registry);
-  register_builtin_mesh_generators(registry);
+  register_builtin_factories(registry);
 
   // ---- top level
   static const std::vector<std::string_view> top_keys{

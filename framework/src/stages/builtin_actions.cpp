@@ -246,13 +246,17 @@ public:
     s.text("name", {}, "name by which a later stage removes the load").defaults_to(std::string("head"));
     s.text("edges", {}, "edge set carrying the load").defaults_to(std::string());
     s.text("cells", {}, "or: a cell set whose top faces carry it (a pile head)").defaults_to(std::string());
-    s.real("force", "kN", "total downward force at the end of the stage (axisymmetric: whole circle)")
-        .defaults_to(0.0);
+    // One of force and settlement is required (check()); NaN marks the one not given.
+    constexpr double none = std::numeric_limits<double>::quiet_NaN();
+    s.real("force", "kN",
+           "total downward force at the end of the stage (axisymmetric: whole circle); required unless "
+           "settlement is given")
+        .defaults_to(none);
     s.real("settlement", "m",
-           "instead of force: downward displacement of the head (the top faces of `cells`) "
-           "at the end of the stage")
+           "instead of force: downward displacement of the head (the top faces of `cells`) at the end of "
+           "the stage")
         .greater_than(0)
-        .defaults_to(1.0);
+        .defaults_to(none);
     return s;
   }
   explicit HeadLoad(const Params& p) : p_(p), displaced_(p.where("settlement").known()) {
