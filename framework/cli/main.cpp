@@ -128,6 +128,7 @@ constexpr const char* plugins_help =
     "Plugins are found on STRATUM_PLUGIN_PATH, then in the program's own plugin folder: an\n"
     "installed stratum searches <prefix>/lib/stratum/plugins, never the build tree it came from.\n"
     "A scene's [plugins] path comes before both.\n"
+    "The framework's own stage actions and mesh generators are listed with them (library \"(built in)\").\n"
     "\n"
     "options:\n"
     "  -h, --help   this text\n"
@@ -148,8 +149,8 @@ const char* help_of(const std::string& cmd) {
 
 constexpr const char* commands[] = {"run", "check", "point", "fit", "sweep", "plugins", "help", "--version"};
 
-constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material, PluginKind::contact_law,
-                                PluginKind::solver};
+constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material,     PluginKind::contact_law,
+                                PluginKind::solver,  PluginKind::stage_action, PluginKind::mesh_generator};
 
 void describe(const Registry& reg, PluginKind kind, const std::string& name, bool full) {
   std::string summary, library;
@@ -198,6 +199,7 @@ int plugins(const std::vector<std::string>& args) {
                 "'; allowed: --describe [NAME], --all, --paths (see stratum plugins --help)");
   PluginCatalog catalog(PluginCatalog::default_directories());
   Registry reg;
+  register_builtin_factories(reg); // the framework's own stage actions and mesh generators
   catalog.require_all(reg);
   if (one) {
     for (PluginKind k : kinds)

@@ -5,7 +5,7 @@
 // payload; the scene fingerprint inside it must match the scene being restarted.
 #pragma once
 
-#include "stage.hpp"
+#include "stages/stage.hpp"
 
 #include <istream>
 #include <string>

@@ -26,15 +26,7 @@ struct PluginCatalog::Library {
 };
 
 namespace {
-bool parse_kind(const std::string& s, PluginKind& k) {
-  for (PluginKind c :
-       {PluginKind::material, PluginKind::element, PluginKind::contact_law, PluginKind::solver})
-    if (s == to_string(c)) {
-      k = c;
-      return true;
-    }
-  return false;
-}
+bool parse_kind(const std::string& s, PluginKind& k) { return plugin_kind_from_string(s, k); }
 } // namespace
 
 PluginCatalog::PluginCatalog(std::vector<std::string> directories) : dirs_(std::move(directories)) {
@@ -62,7 +54,8 @@ PluginCatalog::PluginCatalog(std::vector<std::string> directories) : dirs_(std::
         if (!(ls >> name) || !parse_kind(kind_s, kind))
           throw Error(SourceLocation{m.string(), lineno, 1},
                       "bad plugin manifest line '" + line +
-                          "'; expected '<kind> <name>' with kind material, element, contact_law or solver");
+                          "'; expected '<kind> <name>' with kind material, element, contact_law, solver, "
+                          "stage_action or mesh_generator");
         auto key = std::make_pair(kind, name);
         if (auto it = here.find(key); it != here.end()) {
           conflicts_.push_back(std::string("duplicate ") + kind_s + " '" + name + "': provided by " +

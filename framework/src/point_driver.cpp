@@ -1,5 +1,6 @@
 #include "stratum/point_driver.hpp"
 
+#include "scene/plugin_table.hpp"
 #include "stratum/files.hpp"
 #include "stratum/registry.hpp"
 #include "toml_check.hpp"
@@ -136,13 +137,9 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
   const auto* mt = root.get("material") ? root.get("material")->as_table() : nullptr;
   if (!mt) throw Error(location(root), "point file needs a [material] table with model = \"...\"");
   const std::string model = io::require_string(*mt, "model", "[material]");
-  try {
-    impl->catalog->require(impl->registry, PluginKind::material, model);
-  } catch (const Error& e) {
-    throw Error(location(*mt->get("model")), "[material] model = \"" + model + "\": " + e.message());
-  }
-  const auto& f = impl->registry.material(model);
-  impl->material = f.create(check_table(*mt, f.schema, "[material]", {"model"}));
+  impl->material = scene::plugin_from_table<Material>(
+      *impl->catalog, impl->registry, model, location(*mt->get("model")),
+      "[material] model = \"" + model + "\"", *mt, "[material]", {"model"});
 
   Schema init;
   init.real_list("stress", "kPa", "initial stress xx, yy, zz, xy, yz, zx (tension positive)")

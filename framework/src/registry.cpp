@@ -14,8 +14,21 @@ const char* to_string(PluginKind k) {
     return "contact_law";
   case PluginKind::solver:
     return "solver";
+  case PluginKind::stage_action:
+    return "stage_action";
+  case PluginKind::mesh_generator:
+    return "mesh_generator";
   }
   return "?";
+}
+
+bool plugin_kind_from_string(const std::string& s, PluginKind& kind) {
+  for (PluginKind k : all_plugin_kinds)
+    if (s == to_string(k)) {
+      kind = k;
+      return true;
+    }
+  return false;
 }
 
 template <class T>
@@ -48,6 +61,14 @@ template void Registry::add_to(std::map<std::string, Factory<Material>>&, Plugin
 template void Registry::add_to(std::map<std::string, Factory<Element>>&, PluginKind, Factory<Element>);
 template void Registry::add_to(std::map<std::string, Factory<ContactLaw>>&, PluginKind, Factory<ContactLaw>);
 template void Registry::add_to(std::map<std::string, Factory<Solver>>&, PluginKind, Factory<Solver>);
+template void Registry::add_to(std::map<std::string, Factory<StageAction>>&, PluginKind,
+                               Factory<StageAction>);
+template const Factory<StageAction>& Registry::find(const std::map<std::string, Factory<StageAction>>&,
+                                                    PluginKind, const std::string&) const;
+template void Registry::add_to(std::map<std::string, Factory<MeshGenerator>>&, PluginKind,
+                               Factory<MeshGenerator>);
+template const Factory<MeshGenerator>& Registry::find(const std::map<std::string, Factory<MeshGenerator>>&,
+                                                      PluginKind, const std::string&) const;
 template const Factory<Material>& Registry::find(const std::map<std::string, Factory<Material>>&, PluginKind,
                                                  const std::string&) const;
 template const Factory<Element>& Registry::find(const std::map<std::string, Factory<Element>>&, PluginKind,
@@ -75,6 +96,10 @@ bool Registry::has(PluginKind kind, const std::string& name) const {
     return contact_laws_.count(name) != 0;
   case PluginKind::solver:
     return solvers_.count(name) != 0;
+  case PluginKind::stage_action:
+    return stage_actions_.count(name) != 0;
+  case PluginKind::mesh_generator:
+    return mesh_generators_.count(name) != 0;
   }
   return false;
 }
@@ -89,6 +114,10 @@ std::vector<std::string> Registry::names(PluginKind kind) const {
     return keys(contact_laws_);
   case PluginKind::solver:
     return keys(solvers_);
+  case PluginKind::stage_action:
+    return keys(stage_actions_);
+  case PluginKind::mesh_generator:
+    return keys(mesh_generators_);
   }
   return {};
 }
@@ -109,6 +138,10 @@ const Schema& Registry::schema(PluginKind kind, const std::string& name, std::st
     return fill(contact_law(name));
   case PluginKind::solver:
     return fill(solver(name));
+  case PluginKind::stage_action:
+    return fill(stage_action(name));
+  case PluginKind::mesh_generator:
+    return fill(mesh_generator(name));
   }
   throw Error("unknown plugin kind");
 }

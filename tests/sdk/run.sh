@@ -18,7 +18,9 @@
 # 5. `stratum check` and `stratum run --out` every scene (*.toml) of the guide:
 #    each must state [[checks]] and pass them (the Lamé cylinder's u(a), u(b)
 #    against the closed form); then runs the projects' own tests (ctest), i.e.
-#    the guide's test program test_kg_elastic.
+#    the guide's test program test_kg_elastic;
+# 6. the stage action and mesh generator plugins of the guide (lame_kg_staged.toml, run in
+#    step 5): manifests, descriptions, and their own schemas' located errors.
 # Exits non-zero with a message naming the failed check.
 set -euo pipefail
 
@@ -210,5 +212,35 @@ done
 if ! "$example_build/test_kg_elastic" "$scene" | sed 's/^/   /'; then
   fail "test_kg_elastic failed"
 fi
+
+# --- 6. a stage action and a mesh generator from out-of-tree plugins ------------------
+staged=$example_src/lame_kg_staged.toml
+[[ -f $staged ]] || fail "the guide writes no lame_kg_staged.toml"
+step "stage action and mesh generator plugins: $staged"
+grep -qx "stage_action example_cavity_pressure" "$plugin_dir/example_cavity_pressure.plugin" ||
+  fail "the manifest example_cavity_pressure.plugin does not list 'stage_action example_cavity_pressure'"
+grep -qx "mesh_generator example_ring" "$plugin_dir/example_ring_mesher.plugin" ||
+  fail "the manifest example_ring_mesher.plugin does not list 'mesh_generator example_ring'"
+out=$(STRATUM_PLUGIN_PATH=$plugin_path "$stratum" plugins --describe example_cavity_pressure) ||
+  fail "stratum plugins --describe example_cavity_pressure failed"
+grep -q "^stage_action example_cavity_pressure: " <<<"$out" || fail "the stage action is not described: $out"
+out=$(STRATUM_PLUGIN_PATH=$plugin_path "$stratum" plugins --describe example_ring) ||
+  fail "stratum plugins --describe example_ring failed"
+grep -q "^mesh_generator example_ring: " <<<"$out" || fail "the mesh generator is not described: $out"
+grep -q "^  inner_radius  *number  *m " <<<"$out" || fail "example_ring's parameters are not described: $out"
+# The action's own schema: a misspelt key is a located error with a suggestion.
+sed 's/^p = 1.0$/pressure = 1.0/' "$staged" >"$work/bad_action.toml"
+if err=$(STRATUM_PLUGIN_PATH=$plugin_path "$stratum" check "$work/bad_action.toml" 2>&1); then
+  fail "stratum check accepted the unknown key 'pressure' in the example_cavity_pressure action"
+fi
+echo "   $err"
+grep -q "bad_action.toml:[0-9]*:[0-9]*.*pressure" <<<"$err" || fail "the error does not name bad_action.toml:line:col and the key"
+# The generator's own schema: a value out of range is located in [mesh.example_ring].
+sed 's/^height = 0.5$/height = -0.5/' "$staged" >"$work/bad_mesh.toml"
+if err=$(STRATUM_PLUGIN_PATH=$plugin_path "$stratum" check "$work/bad_mesh.toml" 2>&1); then
+  fail "stratum check accepted height = -0.5 for example_ring"
+fi
+echo "   $err"
+grep -q "bad_mesh.toml:[0-9]*:[0-9]*.*height" <<<"$err" || fail "the error does not name bad_mesh.toml:line:col and height"
 
 echo "sdk test passed"

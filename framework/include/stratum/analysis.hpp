@@ -77,9 +77,13 @@ struct RunSummary {
   /// With [output] pile_cells as well: per recorded level, load_kN, head_mm, pile_shortening_mm,
   /// base_mm, shaft_slip_mean_mm, shaft_slip_top_mm, shaft_load_kN, base_load_kN, each a change
   /// since the start of the loaded stage (curves/settlement_components.csv;
-  /// framework/src/pile_components.hpp).
+  /// framework/src/output/pile_components.hpp).
   std::vector<std::array<double, 8>> settlement_components;
 };
+
+/// Registers the framework's own stage actions and mesh generators, as an Analysis does before
+/// it reads a scene (`stratum plugins` lists them with the plugins' factories).
+void register_builtin_factories(Registry& registry);
 
 class Analysis {
 public:

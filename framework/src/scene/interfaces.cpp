@@ -1,5 +1,6 @@
 #include "stratum/interfaces.hpp"
 
+#include "scene/plugin_table.hpp"
 #include "scene_interfaces.hpp"
 #include "toml_check.hpp"
 
@@ -183,13 +184,9 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
       const auto* t = value.as_table();
       if (!t) throw Error(location(value), ctx + " must be a table");
       const std::string model_name = require_string(*t, "model", ctx);
-      try {
-        catalog.require(registry, PluginKind::contact_law, model_name);
-      } catch (const Error& e) {
-        throw Error(location(*t->get("model")), ctx + " model = \"" + model_name + "\": " + e.message());
-      }
-      const auto& f = registry.contact_law(model_name);
-      out.laws.push_back(f.create(check_table(*t, f.schema, ctx, {"model"})));
+      out.laws.push_back(
+          scene::plugin_from_table<ContactLaw>(catalog, registry, model_name, location(*t->get("model")),
+                                               ctx + " model = \"" + model_name + "\"", *t, ctx, {"model"}));
       law_by_name[name] = out.laws.back().get();
     }
   }
@@ -251,27 +248,17 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
                   ctx + " element = \"" + element +
                       "\" is not allowed; allowed: contact2 or interface_line (a thin_layer is a row of "
                       "thin cells given as [[domains]] with a material)");
-    try {
-      catalog.require(registry, PluginKind::element, element);
-    } catch (const Error& e) {
-      throw Error(location(*t->get("element")), ctx + " element = \"" + element + "\": " + e.message());
-    }
-    const auto& f = registry.element(element);
-    const std::string form = model.formulation == Formulation::axisymmetric ? "axisymmetric" : "plane_strain";
-    auto ep = check_table(*t, f.schema, ctx, {"name", "edges", "cells", "element", "law", "csv"});
-    if (f.schema.find("formulation")) {
-      if (const auto* fv = t->get("formulation"); fv && ep.text("formulation") != form)
-        throw Error(location(*fv),
-                    ctx + " formulation contradicts [analysis] formulation = \"" + form + "\"");
-      ep.set("formulation", form, ep.where("formulation"));
-    }
+    auto made = scene::plugin_table<Element>(catalog, registry, element, location(*t->get("element")),
+                                             ctx + " element = \"" + element + "\"", *t, ctx,
+                                             {"name", "edges", "cells", "element", "law", "csv"});
+    scene::follow_formulation(made.factory->schema, *t, made.params, model.formulation, ctx);
     InterfaceSplit split;
     try {
       split = split_interface(model.mesh, name, es->second, body2, kind);
     } catch (const Error& e) {
       throw Error(location(*t), ctx + ": " + e.message());
     }
-    out.elements.push_back(f.create(ep));
+    out.elements.push_back(made.create());
     Domain dm;
     dm.name = name;
     dm.set_id = static_cast<int>(model.domains.size());

@@ -1,0 +1,88 @@
+// What an Analysis holds: the scene as read (framework/src/scene/), the stages
+// (framework/src/stages/), and the state the run loop (framework/src/run/) and the
+// outputs (framework/src/output/) share. Internal to the framework.
+#pragma once
+
+#include "recorders.hpp"
+#include "scene/scene_fingerprint.hpp"
+#include "scene/scene_interfaces.hpp"
+#include "stages/stage.hpp"
+#include "stratum/analysis.hpp"
+#include "stratum/vtk_output.hpp"
+
+#include <toml++/toml.h>
+
+#include <array>
+#include <chrono>
+#include <limits>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+struct Analysis::Impl {
+  std::string path, title;
+  RunOptions options;
+  std::unique_ptr<PluginCatalog> catalog;
+  Registry registry;
+  std::vector<std::unique_ptr<Material>> materials;
+  std::vector<std::unique_ptr<Element>> elements;
+  SceneInterfaces interfaces; ///< contact laws, interface elements, named interfaces
+  /// The stage's solver: created afresh for every stage from the factory and its checked
+  /// parameters, so that nothing a solver keeps (a reference load, a factorization) outlives
+  /// the stage it was made for.
+  std::unique_ptr<Solver> solver;
+  const Factory<Solver>* solver_factory = nullptr;
+  Params solver_params;
+  Model model;
+  std::string linear_solver = "auto";
+  bool reuse_linear_stiffness = true;
+  bool reuse_symbolic = true;
+  int threads = 1; ///< element-loop threads, resolved ([analysis] threads, 0 = the machine's)
+  StepSettings stepping;
+  Convergence convergence;
+  bool vtk = true, ip_output = true;
+  int every = 1;
+  std::vector<stage::Stage> stages;
+  std::vector<stage::LoadSpec> loads; ///< loads applied at the current state, in order
+  Eigen::VectorXd initial_prescribed; ///< [[constraints]] values, applied over the first stage
+  std::string fingerprint;
+  std::vector<FingerprintPart> parts; ///< checked on restart (scene_fingerprint.hpp)
+  double time = 0.0;                  ///< output time: stage number - 1 + load factor
+  // What the VTK field data of a step says (write_step): the stage running, its step, and the
+  // pile head's load and settlement where a head is monitored (NaN otherwise).
+  std::string stage_name = "initial";
+  int stage_number = 0, stage_step = 0;
+  double last_head_load = std::numeric_limits<double>::quiet_NaN(),
+         last_head_settlement = std::numeric_limits<double>::quiet_NaN();
+  std::string pile_cells; ///< [output] pile_cells: curves/axial_force.csv
+  std::string out_dir;    ///< where the run writes (for the interface CSV files)
+
+  // Reading the scene (framework/src/scene/): build() reads the whole scene in this order.
+  void build(const toml::table& root);
+  void read_mesh(const toml::table& root, const SourceLocation& pile_cells_at);
+  void read_domains(const toml::table& root);
+  void read_constraints(const toml::table& root);
+  void read_stages(const toml::table& root);
+  /// One [[stages.actions]] (or [[loads]]) table: its action from the registry by `type`,
+  /// checked against the scene as read so far.
+  std::unique_ptr<StageAction> parse_action(const toml::table& at, const std::string& actx,
+                                            const std::string& default_load_name,
+                                            std::set<std::string>& load_names, bool& reset_after);
+  stage::Stage parse_stage(const toml::table& t, const std::string& ctx, std::set<std::string>& load_names);
+  /// Runs stage k; false when the run ends here (failure in summary.outcome, or an early stop).
+  bool run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
+                 std::vector<std::array<double, 3>>& axial_rows);
+  std::vector<std::array<double, 6>> shaft_rows; ///< load, y, shear, normal, slip (mm), status
+  std::vector<Recorder> recorders;               ///< [[output.history]]
+  std::vector<Check> checks;                     ///< [[checks]]
+  void write_tables(const RunSummary& summary, const std::vector<std::array<double, 3>>& axial_rows,
+                    const std::vector<StepRecord>& live);
+  std::chrono::steady_clock::time_point last_tables = std::chrono::steady_clock::now();
+  double tables_every = 5.0; ///< seconds between rewrites of the tables during a stage
+  void write_step(VtkSeriesWriter& w, double time) const;
+};
+
+} // namespace stratum

@@ -1,0 +1,114 @@
+// One VTK output step: displacements, reactions, cell stresses, the integration-point cloud
+// with the materials' named history variables, and the interface fields.
+#include "analysis_impl.hpp"
+#include "status_output.hpp"
+#include "stratum/interfaces.hpp"
+
+#include <filesystem>
+
+namespace fs = std::filesystem;
+
+namespace stratum {
+
+void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
+  const Model& m = model;
+  OutputStep out;
+  out.time = time;
+  out.mesh = &m.mesh;
+  out.texts = {{"stage", stage_name}};
+  out.values = {{"stage_number", stage_number},
+                {"step", stage_step},
+                {"load_factor", m.lambda},
+                {"head_load_kN", last_head_load},
+                {"head_settlement_mm", last_head_settlement}};
+  Field disp{"displacement", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
+  Field reac{"reaction", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
+  for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
+    for (int c = 0; c < 2; ++c) {
+      const auto d = static_cast<Eigen::Index>(2 * n + static_cast<std::size_t>(c));
+      disp.values[3 * n + static_cast<std::size_t>(c)] = m.u[d];
+      if (m.dofs.eq[static_cast<std::size_t>(d)] < 0)
+        reac.values[3 * n + static_cast<std::size_t>(c)] =
+            m.reactions[d] - m.load_base[d] - m.lambda * m.load_ref[d];
+    }
+  out.point_fields = {std::move(disp), std::move(reac)};
+  const std::vector<std::string> voigt{"xx", "yy", "zz", "xy", "yz", "zx"};
+  Field stress{"stress", 6, {}, voigt}, set_id{"set_id", 1, {}};
+  Field ip_stress{"stress", 6, {}, voigt}, ip_strain{"strain", 6, {}, voigt}, ip_plastic{"plastic", 1, {}};
+  // Named history components (Material::history_names()): one scalar field per name over all
+  // integration points; NaN where a domain's material has no component of that name.
+  std::vector<Field> ip_history;
+  std::vector<std::vector<int>> history_index(m.domains.size()); // field -> history slot, per domain
+  if (ip_output)
+    for (std::size_t d = 0; d < m.domains.size(); ++d) {
+      if (!m.domains[d].law.material) continue;
+      const auto names = m.domains[d].law.material->history_names();
+      const auto n =
+          std::min<std::size_t>(names.size(), static_cast<std::size_t>(m.domains[d].states.history_size()));
+      for (std::size_t k = 0; k < n; ++k) {
+        std::size_t f = 0;
+        while (f < ip_history.size() && ip_history[f].name != names[k]) ++f;
+        if (f == ip_history.size()) ip_history.push_back(Field{names[k], 1, {}});
+        for (auto& idx : history_index) idx.resize(ip_history.size(), -1);
+        history_index[d][f] = static_cast<int>(k);
+      }
+    }
+  std::size_t total_points = 0;
+  for (const auto& dm : m.domains)
+    for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)
+      if (m.is_active(dm.cells[ci])) total_points += dm.first_point[ci + 1] - dm.first_point[ci];
+  out.ip_coords.resize(static_cast<Eigen::Index>(ip_output ? total_points : 0), 2);
+  Eigen::Index row = 0;
+  std::vector<int> nodes;
+  Eigen::MatrixX2d x, xp;
+  Eigen::VectorXd wts;
+  for (std::size_t d = 0; d < m.domains.size(); ++d)
+    for (std::size_t ci = 0; ci < m.domains[d].cells.size(); ++ci) {
+      const auto& dm = m.domains[d];
+      const int c = dm.cells[ci];
+      if (!m.is_active(c)) continue; // removed (bored) or not yet placed
+      out.cells.push_back(c);
+      m.cell_nodes(c, nodes, x);
+      ElementData data{c, m.mesh.cells[c].shape(), &x};
+      dm.element->point_weights(data, wts);
+      Vec6 avg = Vec6::Zero();
+      for (std::size_t p = dm.first_point[ci]; p < dm.first_point[ci + 1]; ++p) {
+        const auto slot = dm.states.committed(p);
+        avg += wts[static_cast<Eigen::Index>(p - dm.first_point[ci])] * slot.stress();
+        if (ip_output) {
+          for (int k = 0; k < 6; ++k) {
+            ip_stress.values.push_back(slot.stress()[k]);
+            ip_strain.values.push_back(slot.strain()[k]);
+          }
+          ip_plastic.values.push_back(
+              dm.law.material ? dm.law.material->point_status(slot.stress(), slot.history()) : -1.0);
+          for (std::size_t f = 0; f < ip_history.size(); ++f) {
+            const int k = history_index[d].empty() ? -1 : history_index[d][f];
+            ip_history[f].values.push_back(k >= 0 ? slot.history()[static_cast<std::size_t>(k)]
+                                                  : std::numeric_limits<double>::quiet_NaN());
+          }
+        }
+      }
+      for (int k = 0; k < 6; ++k) stress.values.push_back(avg[k]);
+      set_id.values.push_back(dm.set_id);
+      if (ip_output) {
+        dm.element->point_coordinates(data, xp);
+        out.ip_coords.middleRows(row, xp.rows()) = xp;
+        row += xp.rows();
+      }
+    }
+  out.cell_fields = {std::move(stress), std::move(set_id)};
+  if (ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain), std::move(ip_plastic)};
+  for (auto& f : ip_history) out.ip_fields.push_back(std::move(f));
+  add_status_names(m, out, ip_output); // "domain", "domains", "plastic_regimes_<domain>"
+  if (ip_output && !interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
+  w.write(out);
+  for (const auto& itf : interfaces.interfaces)
+    if (itf.csv)
+      write_interface_csv(interface_points(m, m.domains[itf.domain]),
+                          (fs::path(out_dir) / (fs::path(path).stem().string() + "_" + itf.name + "_" +
+                                                std::to_string(w.steps_written() - 1) + ".csv"))
+                              .string());
+}
+
+} // namespace stratum

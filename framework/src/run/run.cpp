@@ -1,0 +1,111 @@
+// Analysis::run: the stages in order, restart from a checkpoint, a checkpoint after each stage.
+#include "analysis_impl.hpp"
+#include "checkpoint.hpp"
+#include "output_folder.hpp"
+#include "run/timing.hpp"
+
+#include <filesystem>
+#include <optional>
+
+namespace fs = std::filesystem;
+
+namespace stratum {
+
+RunSummary Analysis::run() {
+  const auto t_run = std::chrono::steady_clock::now();
+  Impl& s = *impl_;
+  Model& m = s.model;
+  RunSummary summary;
+  summary.out_dir =
+      s.options.out_dir.empty() ? (fs::path("out") / fs::path(s.path).stem()).string() : s.options.out_dir;
+  s.out_dir = summary.out_dir;
+  std::size_t first = 0;
+  if (!s.options.restart_from.empty()) {
+    const std::string& path = s.options.restart_from;
+    Checkpoint c = read_checkpoint(path);
+    if (c.fingerprint != s.fingerprint)
+      throw Error(path + ": the checkpoint belongs to another scene (it has \"" + c.fingerprint +
+                  "\", this scene has \"" + s.fingerprint + "\")");
+    std::vector<FingerprintPart> saved;
+    for (std::size_t i = 0; i < c.part_names.size() && i < c.part_digests.size() && i < c.part_stages.size();
+         ++i)
+      saved.push_back({c.part_names[i], c.part_digests[i], c.part_stages[i], {}});
+    SourceLocation where;
+    if (const std::string why = fingerprint_mismatch(saved, s.parts, c.stages_done, &where); !why.empty())
+      throw Error(where, "--restart-from " + path + ": " + why);
+    if (c.states.size() != m.domains.size() || c.u.size() != static_cast<std::size_t>(m.u.size()))
+      throw Error(path + ": the checkpoint does not match the scene's model size");
+    m.u = Eigen::Map<const Eigen::VectorXd>(c.u.data(), static_cast<Eigen::Index>(c.u.size()));
+    m.reactions =
+        Eigen::Map<const Eigen::VectorXd>(c.reactions.data(), static_cast<Eigen::Index>(c.reactions.size()));
+    m.active = c.active;
+    m.constrained = c.constrained;
+    s.loads = c.loads;
+    for (std::size_t d = 0; d < m.domains.size(); ++d) m.domains[d].states.restore(c.states[d]);
+    s.time = c.time;
+    first = static_cast<std::size_t>(c.stages_done);
+    summary.stages_done = c.stages_done;
+  }
+
+  // The folder is this run's while it writes; what an earlier run left there moves aside (after
+  // a checkpoint in it was read above), so that no file of two runs mixes.
+  std::optional<OutputFolder> folder;
+  if (s.options.write_output) {
+    folder.emplace(summary.out_dir);
+    folder->move_aside_previous(fs::path(s.path).stem().string(), static_cast<int>(first));
+  }
+  std::unique_ptr<VtkSeriesWriter> writer;
+  if (s.options.write_output && s.vtk) {
+    writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string());
+    timed(summary.times.output, [&] { s.write_step(*writer, s.time); });
+  }
+  std::vector<std::array<double, 3>> axial_rows;
+  // The recorders' first row: the state the run starts from (step 0 of its first stage).
+  for (auto& r : s.recorders) r.sample(m, static_cast<int>(first) + 1, 0, 0.0, 0);
+  for (std::size_t k = first; k < s.stages.size(); ++k) {
+    const bool go_on = s.run_stage(k, summary, writer.get(), axial_rows);
+    if (!summary.outcome.ok()) break;
+    if (go_on && k + 1 < s.stages.size())
+      timed(summary.times.output, [&] { s.write_tables(summary, axial_rows, {}); });
+    summary.stages_done = static_cast<int>(k + 1);
+    if (s.stages[k].checkpoint && s.options.write_output && go_on) {
+      const auto t_ckpt = std::chrono::steady_clock::now();
+      Checkpoint c;
+      c.fingerprint = s.fingerprint;
+      for (const auto& p : s.parts)
+        if (p.stage <= static_cast<int>(k)) {
+          c.part_names.push_back(p.name);
+          c.part_digests.push_back(p.digest);
+          c.part_stages.push_back(p.stage);
+        }
+      c.stages_done = static_cast<int>(k + 1);
+      c.stage_name = s.stages[k].name;
+      c.u.assign(m.u.data(), m.u.data() + m.u.size());
+      c.reactions.assign(m.reactions.data(), m.reactions.data() + m.reactions.size());
+      c.active = m.active;
+      c.constrained = m.constrained;
+      c.loads = s.loads;
+      for (const auto& dm : m.domains) c.states.push_back(dm.states.committed_data());
+      c.time = s.time;
+      const auto path = (fs::path(summary.out_dir) / "checkpoints" /
+                         (std::to_string(k + 1) + "_" + s.stages[k].name + ".ckpt"))
+                            .string();
+      write_checkpoint(path, c);
+      summary.checkpoints.push_back(path);
+      summary.times.checkpoint += seconds_since(t_ckpt);
+    }
+    if (!go_on) {
+      if (!summary.stop_reason.empty()) summary.stages_done = static_cast<int>(k); // ended early
+      break;
+    }
+  }
+  if (writer) summary.pvd = writer->pvd_path();
+  const auto t_out = std::chrono::steady_clock::now();
+  s.write_tables(summary, axial_rows, {});
+  summary.checks = evaluate_checks(s.checks, s.recorders);
+  summary.times.output += seconds_since(t_out);
+  summary.times.total = seconds_since(t_run);
+  return summary;
+}
+
+} // namespace stratum

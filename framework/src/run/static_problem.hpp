@@ -1,0 +1,118 @@
+// The nonlinear problem a stage solves (static equilibrium of the model), the linear solver
+// wrapper that times it, and the tangent predictor of prescribed-displacement steps.
+#pragma once
+
+#include "run/timing.hpp"
+#include "stratum/analysis.hpp"
+#include "stratum/linear_solver.hpp"
+#include "stratum/model.hpp"
+#include "stratum/solver.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+/// Static equilibrium of the model: R(u, lambda) = F_base + lambda F_ref - F_int(u).
+class StaticProblem final : public NonlinearProblem {
+public:
+  StaticProblem(Model& m, const Assembler& a, LinearSolver& ls, RunTimes& times)
+      : m_(m), a_(a), ls_(ls), times_(times) {
+    ref_ = m.restrict_free(m.load_ref);
+  }
+  Eigen::Index size() const override { return m_.dofs.free_count; }
+  Outcome evaluate(const Eigen::VectorXd& u, double lambda, Eigen::VectorXd& r, SparseMatrix* k) override {
+    m_.expand(u, lambda, full_);
+    Outcome o = timed(times_.assembly, [&] { return a_.assemble(m_, full_, fint_, k); });
+    ++times_.assemblies;
+    if (!o.ok()) return o;
+    r.resize(size());
+    for (int d = 0; d < m_.dofs.total(); ++d)
+      if (const int e = m_.dofs.eq[d]; e >= 0) r[e] = m_.load_base[d] + lambda * m_.load_ref[d] - fint_[d];
+    return {};
+  }
+  SparseMatrix make_tangent() const override { return a_.make_matrix(); }
+  const Eigen::VectorXd& reference_load() const override { return ref_; }
+  LinearSolver& linear_solver() override { return ls_; }
+  double force_scale(double lambda) const override {
+    return std::max((m_.load_base + lambda * m_.load_ref).norm(), fint_.size() ? fint_.norm() : 0.0);
+  }
+  std::vector<Eigen::Index> node_set_dofs(const std::string& set, int component) const override {
+    std::vector<Eigen::Index> v;
+    auto it = m_.mesh.node_sets.find(set);
+    if (it == m_.mesh.node_sets.end() || component < 0 || component > 1) return v;
+    for (int n : it->second)
+      if (const int e = m_.dofs.eq[static_cast<std::size_t>(2 * n + component)]; e >= 0) v.push_back(e);
+    return v;
+  }
+  bool renew_decisions() override {
+    bool any = false;
+    for (auto& d : m_.domains) {
+      const int slot = d.law.material ? d.law.material->decision_slot() : -1;
+      if (slot < 0) continue;
+      any = true;
+      for (std::size_t p = 0; p < d.states.points(); ++p)
+        d.states.trial(p).history()[static_cast<std::size_t>(slot)] = 0.0;
+    }
+    return any;
+  }
+  double step_error() const override {
+    double e = 0.0;
+    for (const auto& d : m_.domains) {
+      if (!d.law.material) continue;
+      for (std::size_t c = 0; c < d.cells.size(); ++c) {
+        if (!m_.is_active(d.cells[c])) continue;
+        for (std::size_t p = d.first_point[c]; p < d.first_point[c + 1]; ++p)
+          e = std::max(e, d.law.material->step_error(d.states.trial(p).history()));
+      }
+    }
+    return e;
+  }
+  const Eigen::VectorXd& internal_force() const { return fint_; }
+
+private:
+  Model& m_;
+  const Assembler& a_;
+  LinearSolver& ls_;
+  RunTimes& times_;
+  Eigen::VectorXd ref_, full_, fint_;
+};
+
+/// Forwards to a linear solver and adds the time of each call to the run's RunTimes. With
+/// analyze_each, every factorization is preceded by a symbolic analysis of the matrix (only
+/// to measure what reusing the stage's analysis saves; the results are the same).
+class TimedLinearSolver final : public LinearSolver {
+public:
+  TimedLinearSolver(std::unique_ptr<LinearSolver> inner, RunTimes& times, bool analyze_each)
+      : inner_(std::move(inner)), times_(times), analyze_each_(analyze_each) {}
+  std::string name() const override { return inner_->name(); }
+  Outcome analyze(const SparseMatrix& a) override {
+    ++times_.analyses;
+    return timed(times_.analyze, [&] { return inner_->analyze(a); });
+  }
+  Outcome factorize(const SparseMatrix& a) override {
+    if (analyze_each_)
+      if (auto o = analyze(a); !o.ok()) return o;
+    ++times_.factorizations;
+    return timed(times_.factorize, [&] { return inner_->factorize(a); });
+  }
+  Outcome solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    ++times_.solves;
+    return timed(times_.solve, [&] { return inner_->solve(b, x); });
+  }
+
+private:
+  std::unique_ptr<LinearSolver> inner_;
+  RunTimes& times_;
+  bool analyze_each_;
+};
+
+/// Tangent (Euler) predictor for a step from lambda_n to lambda: u += K_n^-1 dR/dlambda (lambda -
+/// lambda_n), with dR/dlambda (which carries the prescribed-displacement increment through the
+/// elements) by a one-sided difference at the converged state. Leaves u unchanged when any part
+/// fails; Newton then starts from u_n as without a predictor.
+void predict(NonlinearProblem& problem, LinearSolver& ls, double lambda_n, double lambda, Eigen::VectorXd& u);
+
+} // namespace stratum

@@ -1,0 +1,139 @@
+// Reading [materials], [[domains]] and [[constraints]].
+#include "analysis_impl.hpp"
+#include "scene/plugin_table.hpp"
+#include "scene/tables.hpp"
+#include "toml_check.hpp"
+
+#include <map>
+
+namespace stratum {
+
+using io::check_table;
+using io::location;
+using io::require_string;
+using scene::optional_table;
+using scene::table_list;
+
+void Analysis::Impl::read_domains(const toml::table& root) {
+  // ---- materials
+  std::map<std::string, const Material*> material_by_name;
+  {
+    const auto& mats = optional_table(root, "materials");
+    for (auto&& [key, value] : mats) {
+      const std::string name(key.str());
+      const std::string ctx = "[materials." + name + "]";
+      const auto* t = value.as_table();
+      if (!t) throw Error(location(value), ctx + " must be a table");
+      const std::string model_name = require_string(*t, "model", ctx);
+      materials.push_back(
+          scene::plugin_from_table<Material>(*catalog, registry, model_name, location(*t->get("model")),
+                                             ctx + " model = \"" + model_name + "\"", *t, ctx, {"model"}));
+      material_by_name[name] = materials.back().get();
+    }
+  }
+
+  // ---- domains
+  const auto domain_list = table_list(root, "domains");
+  if (domain_list.empty()) throw Error(location(root), "scene has no [[domains]]: nothing to analyse");
+  std::vector<int> owner(model.mesh.cells.size(), -1);
+  for (std::size_t i = 0; i < domain_list.size(); ++i) {
+    const auto& t = *domain_list[i];
+    const std::string ctx = "[[domains]] #" + std::to_string(i + 1);
+    const std::string cells = require_string(t, "cells", ctx);
+    const std::string element = require_string(t, "element", ctx);
+    const std::string material = require_string(t, "material", ctx);
+    auto cs = model.mesh.cell_sets.find(cells);
+    if (cs == model.mesh.cell_sets.end())
+      throw Error(location(*t.get("cells")),
+                  ctx + " cells = \"" + cells +
+                      "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets, cells));
+    auto mat = material_by_name.find(material);
+    if (mat == material_by_name.end())
+      throw Error(location(*t.get("material")),
+                  ctx + " material = \"" + material +
+                      "\" is not defined; defined: " + key_list(material_by_name, material));
+    auto made = scene::plugin_table<Element>(*catalog, registry, element, location(*t.get("element")),
+                                             ctx + " element = \"" + element + "\"", t, ctx,
+                                             {"cells", "element", "material"});
+    scene::follow_formulation(made.factory->schema, t, made.params, model.formulation, ctx);
+    elements.push_back(made.create());
+    Domain dm;
+    dm.name = cells;
+    dm.set_id = static_cast<int>(i);
+    dm.element = elements.back().get();
+    dm.law.material = mat->second;
+    dm.cells = cs->second;
+    dm.first_point.assign(dm.cells.size() + 1, 0);
+    for (std::size_t c = 0; c < dm.cells.size(); ++c) {
+      const int cell = dm.cells[c];
+      if (owner[cell] >= 0)
+        throw Error(location(*t.get("cells")), ctx + " cell " + std::to_string(cell) +
+                                                   " already belongs to [[domains]] #" +
+                                                   std::to_string(owner[cell] + 1));
+      owner[cell] = static_cast<int>(i);
+      const unsigned shape = model.mesh.cells[cell].shape();
+      try {
+        dm.element->check_shape(shape);
+        std::vector<int> cn;
+        Eigen::MatrixX2d cx;
+        model.cell_nodes(cell, cn, cx);
+        dm.element->check_geometry(ElementData{cell, shape, &cx});
+      } catch (const Error& e) {
+        throw Error(location(*t.get("element")), ctx + " cell " + std::to_string(cell) + ": " + e.message());
+      }
+      dm.first_point[c + 1] = dm.first_point[c] + static_cast<std::size_t>(dm.element->num_points(shape));
+    }
+    dm.states = StateStore(dm.first_point.back(), dm.law.material->history_size());
+    for (std::size_t p = 0; p < dm.states.points(); ++p) {
+      auto slot = dm.states.committed_for_init(p);
+      dm.law.material->init_history(Vec6::Zero(), slot.history());
+    }
+    dm.states.revert();
+    model.domains.push_back(std::move(dm));
+  }
+}
+
+void Analysis::Impl::read_constraints(const toml::table& root) {
+  // ---- constraints
+  const auto ndof = static_cast<Eigen::Index>(model.mesh.nodes.size() * DofMap::per_node);
+  std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
+  model.prescribed = Eigen::VectorXd::Zero(ndof);
+  for (const auto* t : table_list(root, "constraints")) {
+    const std::string ctx = "[[constraints]] at line " + std::to_string(location(*t).line);
+    const std::string set = require_string(*t, "nodes", ctx);
+    auto ns = model.mesh.node_sets.find(set);
+    if (ns == model.mesh.node_sets.end())
+      throw Error(location(*t->get("nodes")),
+                  "[[constraints]] nodes = \"" + set +
+                      "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets, set));
+    Schema s;
+    s.real("ux", "m", "prescribed x (radial) displacement at load factor 1").defaults_to(0.0);
+    s.real("uy", "m", "prescribed y (vertical) displacement at load factor 1").defaults_to(0.0);
+    const auto p = check_table(*t, s, "[[constraints]]", {"nodes"});
+    bool any = false;
+    for (int c = 0; c < 2; ++c) {
+      const char* k = c == 0 ? "ux" : "uy";
+      if (!t->get(k)) continue;
+      any = true;
+      for (int n : ns->second) {
+        const auto d = static_cast<std::size_t>(n) * 2 + static_cast<std::size_t>(c);
+        if (fixed[d] && model.prescribed[static_cast<Eigen::Index>(d)] != p.real(k))
+          throw Error(p.where(k), "[[constraints]] " + std::string(k) + " on node " + std::to_string(n) +
+                                      " contradicts an earlier constraint");
+        fixed[d] = 1;
+        model.prescribed[static_cast<Eigen::Index>(d)] = p.real(k);
+      }
+    }
+    if (!any)
+      throw Error(location(*t),
+                  "[[constraints]] nodes = \"" + set + "\" constrains nothing; give ux and/or uy");
+  }
+  // Nodes that no active cell uses carry no stiffness: rebuild_dofs() fixes them too.
+  model.constrained = fixed;
+  model.active.assign(model.mesh.cells.size(), 1);
+  model.rebuild_dofs();
+  model.u = Eigen::VectorXd::Zero(ndof);
+  model.reactions = Eigen::VectorXd::Zero(ndof);
+}
+
+} // namespace stratum

@@ -1,0 +1,20 @@
+// Getting at the scene's tables, with file:line:col in every message.
+#pragma once
+
+#include <toml++/toml.h>
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace stratum::scene {
+
+/// The required table [key] of `root`.
+[[nodiscard]] const toml::table& table_at(const toml::table& root, std::string_view key,
+                                          const std::string& ctx);
+/// The table [key] of `root`, or an empty table when it is absent.
+[[nodiscard]] const toml::table& optional_table(const toml::table& root, std::string_view key);
+/// Array of tables [[key]] (absent = empty).
+[[nodiscard]] std::vector<const toml::table*> table_list(const toml::table& root, std::string_view key);
+
+} // namespace stratum::scene

@@ -1,0 +1,19 @@
+// The framework's own stage actions, registered into every Analysis's registry before the
+// scene is read (a plugin adds its own through its entry point; stratum/stage_action.hpp).
+#pragma once
+
+#include "stratum/registry.hpp"
+
+#include <string>
+#include <vector>
+
+namespace stratum::stage {
+
+/// geostatic, deactivate, activate, pressure, load, force, gravity, remove, displacement,
+/// reset_displacements.
+void register_builtin_actions(Registry& registry);
+
+/// Their `type` names in the order the documentation and the messages list them.
+[[nodiscard]] const std::vector<std::string>& builtin_action_types();
+
+} // namespace stratum::stage
