@@ -4,8 +4,8 @@
 
 #include "checkpoint.hpp"
 #include "output_folder.hpp"
+#include "stratum/body_interfaces.hpp"
 #include "stratum/error.hpp"
-#include "stratum/interfaces.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 #include "recorders.hpp"
 
-#include "stratum/interfaces.hpp"
+#include "stratum/body_interfaces.hpp"
 #include "stratum/suggest.hpp"
 #include "toml_check.hpp"
 

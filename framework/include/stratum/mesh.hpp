@@ -18,7 +18,7 @@ namespace stratum {
 /// What a cell is geometrically (for checks and output; elements only see its nodes).
 ///  * solid: a quadrilateral of the continuum (slots as below), or a triangle: slots 3 and 7
 ///    empty, corners 0 1 2 counter-clockwise, midside 4 (edge 0-1), 5 (1-2), 6 (2-0);
-///  * node_pair: a two-node contact cell (stratum/interfaces.hpp): slot 0 the node of body 1,
+///  * node_pair: a two-node contact cell (stratum/body_interfaces.hpp): slot 0 the node of body 1,
 ///    slot 1 its coincident partner of body 2, slots 2 and 3 the body-1 nodes before and after
 ///    slot 0 along the interface (slot 0 itself at an end), for the direction and tributary length;
 ///  * line_interface: a zero-thickness quadrilateral: slots 0, 1 (and midside 4) on body 1, slots

@@ -2,7 +2,7 @@
 // with the materials' named history variables, and the interface fields.
 #include "analysis_impl.hpp"
 #include "status_output.hpp"
-#include "stratum/interfaces.hpp"
+#include "stratum/body_interfaces.hpp"
 
 #include <filesystem>
 

@@ -1,7 +1,7 @@
 // diagnostics.csv, the recorders' histories and the pile curves (curves/*.csv).
 #include "analysis_impl.hpp"
 #include "output/pile_components.hpp"
-#include "output/text_file.hpp"
+#include "stratum/files.hpp"
 
 #include <filesystem>
 #include <iomanip>
@@ -21,7 +21,7 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
   Model& m = model;
   if (options.write_output)
     for (const auto& r : recorders)
-      write_text_atomically(fs::path(summary.out_dir) / "history" / (r.name() + ".csv"), r.csv());
+      write_file_atomically((fs::path(summary.out_dir) / "history" / (r.name() + ".csv")).string(), r.csv());
   if (options.write_output) {
     if (live.empty()) {
       write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
@@ -35,7 +35,7 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
     std::ostringstream ls, af;
     ls << std::setprecision(10) << "load_kN,settlement_mm\n";
     for (const auto& r : summary.load_settlement) ls << r[0] << ',' << r[1] << '\n';
-    write_text_atomically(fs::path(summary.out_dir) / "curves" / "load_settlement.csv", ls.str());
+    write_file_atomically((fs::path(summary.out_dir) / "curves" / "load_settlement.csv").string(), ls.str());
     if (!axial_rows.empty()) {
       af << std::setprecision(10) << "load_kN,depth_m,axial_force_kN\n";
       double top = -std::numeric_limits<double>::infinity();
@@ -43,7 +43,7 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
         for (int n : m.mesh.cells[static_cast<std::size_t>(c)].nodes)
           if (n >= 0) top = std::max(top, m.mesh.nodes[static_cast<std::size_t>(n)].y());
       for (const auto& r : axial_rows) af << r[0] << ',' << top - r[1] << ',' << r[2] << '\n';
-      write_text_atomically(fs::path(summary.out_dir) / "curves" / "axial_force.csv", af.str());
+      write_file_atomically((fs::path(summary.out_dir) / "curves" / "axial_force.csv").string(), af.str());
       if (!shaft_rows.empty()) {
         std::ostringstream st;
         st << std::setprecision(10)
@@ -52,7 +52,8 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
         for (const auto& r : shaft_rows)
           st << r[0] << ',' << top - r[1] << ',' << r[2] << ',' << r[3] << ',' << r[4] << ','
              << names[static_cast<int>(r[5])] << '\n';
-        write_text_atomically(fs::path(summary.out_dir) / "curves" / "shaft_traction.csv", st.str());
+        write_file_atomically((fs::path(summary.out_dir) / "curves" / "shaft_traction.csv").string(),
+                              st.str());
       }
     }
     if (!summary.settlement_components.empty()) {
@@ -60,7 +61,8 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
       sc << std::setprecision(10) << PileComponents::header << '\n';
       for (const auto& r : summary.settlement_components)
         for (std::size_t i = 0; i < r.size(); ++i) sc << r[i] << (i + 1 < r.size() ? ',' : '\n');
-      write_text_atomically(fs::path(summary.out_dir) / "curves" / "settlement_components.csv", sc.str());
+      write_file_atomically((fs::path(summary.out_dir) / "curves" / "settlement_components.csv").string(),
+                            sc.str());
     }
   }
   last_tables = std::chrono::steady_clock::now();

@@ -4,7 +4,7 @@
 #include "output/pile_components.hpp"
 #include "output/pile_curves.hpp"
 #include "run/static_problem.hpp"
-#include "stratum/interfaces.hpp"
+#include "stratum/body_interfaces.hpp"
 #include "stratum/step_control.hpp"
 
 #include <cmath>

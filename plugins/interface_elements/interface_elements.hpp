@@ -1,6 +1,6 @@
 // Interface elements: the two-node contact element (contact2), the zero-thickness line
 // interface (interface_line) and the thin-layer element (thin_layer). Header-only so that the
-// tests run exactly the plugin's code; interfaces.cpp only adds the factories.
+// tests run exactly the plugin's code; interface_elements.cpp only adds the factories.
 // Equations and conventions: README.md in this folder; cell layouts: CellKind in stratum/mesh.hpp.
 //
 // Interface points store (in the framework's StateStore slot) the traction (shear, normal) in

@@ -1,4 +1,4 @@
-#include "stratum/interfaces.hpp"
+#include "stratum/body_interfaces.hpp"
 
 #include "scene/plugin_table.hpp"
 #include "scene_interfaces.hpp"
