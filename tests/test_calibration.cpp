@@ -1,4 +1,4 @@
-// Tests of the calibration tool (stratum/calibration.hpp, docs/calibration.md): synthetic
+// Tests of the calibration tool (framework/src/calibration/calibration.hpp, docs/calibration.md): synthetic
 // curves generated from the closed forms are written as CSV, read back and fitted; the
 // parameters that generated them must come back to 1e-3 relative. Curves that cannot be
 // fitted and malformed CSV give one clear message (with file:line for the CSV).
@@ -11,7 +11,7 @@
 //   Goodman       K_s = k_s0 + alpha (sn/p_a)^m, tau_p = c_p + sn tan phi_p,
 //                 tau_r = c_r + sn tan phi_r                             (3.53)-(3.54)
 //   Clough-Duncan tau = du/(1/(K_I gamma_w (sn/p_a)^n) + R_f du/tau_f), tau_f = c_a + sn tan delta (3.65)
-#include "stratum/calibration.hpp"
+#include "calibration/calibration.hpp"
 #include "stratum/error.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,7 +1,7 @@
-// Parameter studies (stratum/sweep.hpp): the random numbers and distributions against closed
+// Parameter studies (framework/src/sweep/sweep.hpp): the random numbers and distributions against closed
 // forms, the designs' structure, TOML paths, and samples of the elastic pile and an elastic
 // point checked against linear elasticity. The command line, MPI and resume: tests/sweep/run.sh.
-#include "stratum/sweep.hpp"
+#include "sweep/sweep.hpp"
 
 #include <catch2/catch.hpp>
 #include <toml++/toml.h>

@@ -11,7 +11,7 @@
 // comments are echoed to stderr).
 #include "fit.hpp"
 
-#include "stratum/calibration.hpp"
+#include "calibration/calibration.hpp"
 #include "stratum/error.hpp"
 #include "stratum/files.hpp"
 

@@ -1,7 +1,7 @@
-// `stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]`: runs a parameter study (stratum/sweep.hpp) on
-// one process, or on N under mpirun/srun: rank 0 is the manager; it hands out sample indices one at a time to
-// the ranks that ask (dynamic balancing), runs samples itself on a second thread, and is the only writer of
-// the output folder:
+// `stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]`: runs a parameter study
+// (framework/src/sweep/sweep.hpp) on one process, or on N under mpirun/srun: rank 0 is the manager; it hands
+// out sample indices one at a time to the ranks that ask (dynamic balancing), runs samples itself on a second
+// thread, and is the only writer of the output folder:
 //   DIR/journal.csv  the study's hash, then one finished row per line, appended and fsync'd
 //                    as each sample finishes: a rerun runs only the samples it lacks;
 //   DIR/samples.csv  rewritten from the journal at the end (sorted by index, temporary file
@@ -12,7 +12,7 @@
 #include "sweep.hpp"
 
 #include "stratum/files.hpp"
-#include "stratum/sweep.hpp"
+#include "sweep/sweep.hpp"
 
 #ifdef STRATUM_HAVE_MPI
 #define OMPI_SKIP_MPICXX 1 // the C API only

@@ -1,5 +1,6 @@
-// Parameter studies: the study file, the designs, one sample's run and its row (stratum/sweep.hpp).
-#include "stratum/sweep.hpp"
+// Parameter studies: the study file, the designs, one sample's run and its row
+// (framework/src/sweep/sweep.hpp).
+#include "sweep/sweep.hpp"
 
 #include "stratum/analysis.hpp"
 #include "stratum/point_driver.hpp"

@@ -1,6 +1,6 @@
 // Calibration: the fitted parameters as a TOML fragment with the residuals as comments
-// (stratum/calibration.hpp).
-#include "stratum/calibration.hpp"
+// (framework/src/calibration/calibration.hpp).
+#include "calibration/calibration.hpp"
 
 #include "calibration_detail.hpp"
 #include "stratum/error.hpp"

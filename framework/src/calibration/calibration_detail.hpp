@@ -1,7 +1,7 @@
 // Calibration, internal: what the reading, fitting and output parts share.
 #pragma once
 
-#include "stratum/calibration.hpp"
+#include "calibration/calibration.hpp"
 
 #include <Eigen/Dense>
 

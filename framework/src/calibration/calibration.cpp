@@ -1,7 +1,7 @@
 // Calibration from laboratory curves: the transformed linear (Kondner) starts, a small
 // Levenberg-Marquardt solver and the fits (reading: calibration_csv.cpp; output:
-// calibration_toml.cpp). See stratum/calibration.hpp and docs/calibration.md.
-#include "stratum/calibration.hpp"
+// calibration_toml.cpp). See framework/src/calibration/calibration.hpp and docs/calibration.md.
+#include "calibration/calibration.hpp"
 
 #include "calibration_detail.hpp"
 #include "stratum/error.hpp"

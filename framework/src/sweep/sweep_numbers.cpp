@@ -1,6 +1,6 @@
 // Parameter studies: random numbers, normal quantiles, the distributions' quantiles and the
-// curve reading of a sample's quantities (stratum/sweep.hpp).
-#include "stratum/sweep.hpp"
+// curve reading of a sample's quantities (framework/src/sweep/sweep.hpp).
+#include "sweep/sweep.hpp"
 
 #include <algorithm>
 #include <cmath>

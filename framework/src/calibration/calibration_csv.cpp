@@ -1,6 +1,6 @@
 // Calibration: reading the laboratory curves (triaxial and direct-shear CSV files), every
-// error located by file, line and column (stratum/calibration.hpp).
-#include "stratum/calibration.hpp"
+// error located by file, line and column (framework/src/calibration/calibration.hpp).
+#include "calibration/calibration.hpp"
 
 #include "calibration_detail.hpp"
 #include "stratum/error.hpp"
