@@ -32,14 +32,13 @@ std::string where(const toml::node& n) {
 /// Moves every value of `src` into `dst`. `src_wins`: a value in both is taken from `src` (the
 /// including file over its includes); otherwise it is an error (two includes).
 void merge(toml::table& dst, toml::table&& src, bool src_wins, const std::string& context) {
-  for (auto&& [key, value] : src) {
+  for (auto&& [src_key, value] : src) {
+    const toml::key key = src_key; // with its source position; a lambda cannot capture a binding (clang 14)
     const std::string name =
         context.empty() ? std::string(key.str()) : context + "." + std::string(key.str());
     toml::node* old = dst.get(key.str());
     if (!old) {
-      value.visit([&](auto&& v) {
-        dst.insert(toml::key(key), std::move(v));
-      });
+      value.visit([&](auto&& v) { dst.insert(key, std::move(v)); });
       continue;
     }
     if (old->is_table() && value.is_table()) {
@@ -52,9 +51,7 @@ void merge(toml::table& dst, toml::table&& src, bool src_wins, const std::string
                   "'" + name + "' is set here and at " + where(*old) +
                       (tables_array ? " (an array of tables, [[" + name + "]], is written in one file only)"
                                     : " (two included files may not set the same value)"));
-    value.visit([&](auto&& v) {
-      dst.insert_or_assign(toml::key(key), std::move(v));
-    });
+    value.visit([&](auto&& v) { dst.insert_or_assign(key, std::move(v)); });
   }
 }
 
