@@ -30,9 +30,10 @@ void Analysis::Impl::read_mesh(const toml::table& root, const SourceLocation& pi
     if (const auto* g = mt.get("generator"); g && g->is_string()) generator = g->as_string()->get();
     const bool own_reader = generator == "blocks" || generator == "gmsh";
     const std::string sub = own_reader || generator.empty() ? "" : generator_table(generator);
-    std::vector<std::string_view> extra{"blocks"};
+    const TableKeys keys = mesh_keys();
+    std::vector<std::string_view> extra{"blocks"}; // keys.other: blocks, and the generator's table
     if (!sub.empty()) extra.push_back(sub);
-    const auto mp = check_table(mt, mesh_schema(), "[mesh]", extra);
+    const auto mp = check_table(mt, keys.schema, "[mesh]", extra);
     if (mp.text("generator") == "blocks") {
       const int npc = static_cast<int>(mp.integer("nodes_per_cell"));
       if (npc != 4 && npc != 8)
