@@ -557,3 +557,38 @@ TEST_CASE("cli: a load on an empty set is an error located at the set's key", "[
                         "[[stages]] #1 [[stages.actions]] #1 type = \"load\" cells = \"no_cells\" is an "
                         "empty cell set");
 }
+
+TEST_CASE("cli: every key a table accepts is in its stratum describe section", "[cli][describe]") {
+  // An unknown key makes the reader list the keys it accepts; each must be described.
+  const struct {
+    const char* section;
+    std::string scene;
+  } cases[] = {
+      {"analysis", edit("formulation = \"axisymmetric\"\n", "formulation = \"axisymmetric\"\nzzz = 1\n")},
+      {"output", good + "[output]\nzzz = 1\n"},
+      {"constraints", edit("nodes = \"bottom\"\n", "nodes = \"bottom\"\nzzz = 1\n")},
+      {"mesh", edit("nodes_per_cell = 8\n", "nodes_per_cell = 8\nzzz = 1\n")},
+      {"mesh.blocks", edit("nx = 4\n", "nx = 4\nzzz = 1\n")},
+  };
+  for (const auto& c : cases) {
+    const auto r = stratum("check " + write_scene("keys.toml", c.scene));
+    INFO(c.section << ": " << r.err);
+    REQUIRE(r.code == 1);
+    const auto at = r.err.find("; allowed: ");
+    REQUIRE(at != std::string::npos);
+    std::string list = r.err.substr(at + 11);
+    list = list.substr(0, list.find_first_of(";\n"));
+    const auto d = stratum(std::string("describe ") + c.section);
+    REQUIRE(d.code == 0);
+    int keys = 0;
+    for (std::size_t from = 0; from < list.size();) {
+      const auto comma = std::min(list.find(", ", from), list.size());
+      const std::string key = list.substr(from, comma - from);
+      INFO("key " << key);
+      CHECK(d.out.find("\n  " + key + " ") != std::string::npos);
+      ++keys;
+      from = comma + 2;
+    }
+    CHECK(keys >= 2);
+  }
+}
