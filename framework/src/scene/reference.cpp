@@ -5,6 +5,7 @@
 #include "meshers/builtin_generators.hpp"
 #include "recorders.hpp"
 #include "scene/schemas.hpp"
+#include "stratum/mesh_generator.hpp"
 #include "stratum/suggest.hpp"
 
 #include <iomanip>
@@ -84,6 +85,31 @@ template <class F> std::vector<Block> variants(const Registry& reg, PluginKind k
   return v;
 }
 
+/// The sets a mesh generator defines with its default parameters (when all have defaults): generated
+/// here, so that the list is the generator's own. Empty when it cannot be generated so.
+std::vector<std::string> generator_sets(const Registry& reg, const std::string& name) {
+  const auto& f = reg.factory<MeshGenerator>(name);
+  Params p;
+  for (const auto& s : f.schema.specs()) {
+    if (!s.fallback) return {};
+    p.set(s.name, *s.fallback);
+  }
+  Mesh mesh;
+  try {
+    mesh = f.create(p)->generate(MeshRequest{});
+  } catch (const Error&) {
+    return {};
+  }
+  const auto names = [](const auto& sets, const std::map<std::string, std::vector<Edge>>* skip = nullptr) {
+    std::string s;
+    for (const auto& [n, v] : sets)
+      if (!skip || !skip->count(n)) s += (s.empty() ? "" : ", ") + n;
+    return s.empty() ? std::string("(none)") : s;
+  };
+  return {"cell sets: " + names(mesh.cell_sets), "edge sets (each also a node set): " + names(mesh.edge_sets),
+          "other node sets: " + names(mesh.node_sets, &mesh.edge_sets)};
+}
+
 /// All sections; with `reg` null only their names, headers and summaries (no plugins opened).
 std::vector<Section> sections(const Registry* reg) {
   std::vector<Section> out;
@@ -130,10 +156,19 @@ std::vector<Section> sections(const Registry* reg) {
   {
     auto& s =
         add("mesh.generators", "[mesh.<generator>]", "parameters of a mesh generator ([mesh] generator)");
-    if (reg)
+    if (reg) {
       s.blocks = variants(*reg, PluginKind::mesh_generator, [](const std::string& n) {
         return "generator = \"" + n + "\": [mesh." + generator_table(n) + "]";
       });
+      const auto names = reg->names(PluginKind::mesh_generator);
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        const auto sets = generator_sets(*reg, names[i]);
+        if (sets.empty()) continue;
+        s.blocks[i].notes.push_back(
+            "The sets it defines (generated with the defaults, axisymmetric, 8-node cells):");
+        for (const auto& line : sets) s.blocks[i].notes.push_back(line);
+      }
+    }
   }
   {
     auto& s = add("materials", "[materials.<name>]",
