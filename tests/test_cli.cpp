@@ -497,6 +497,8 @@ TEST_CASE("cli: stratum describe lists the scene's sections and describes each f
         std::string::npos);
   CHECK(stratum("describe mesh.generators").out.find("generator = \"axisymmetric_pile\": [mesh.pile]") !=
         std::string::npos);
+  // The sets a generator defines come from a mesh it generates (the pile mesher's shaft zone).
+  CHECK(stratum("describe mesh.generators").out.find(", near_shaft, pile, ") != std::string::npos);
   CHECK(stratum("describe solver").out.find("[solver] solver = \"newton\": ") != std::string::npos);
   // Unknown sections: the known ones and a suggestion.
   const auto bad = stratum("describe stagse");
@@ -556,6 +558,18 @@ TEST_CASE("cli: a load on an empty set is an error located at the set's key", "[
   expect_one_line_error(stratum("check " + p3), p3 + ":20:9 ",
                         "[[stages]] #1 [[stages.actions]] #1 type = \"load\" cells = \"no_cells\" is an "
                         "empty cell set");
+  // The same mesh loaded on a set with members: good, and a warning names the physical groups
+  // that the scene never names (only Gmsh's: generated meshes define many unused sets).
+  const auto p4 =
+      write_scene("named_sets.toml", head + "[[loads]]\ntype = \"pressure\"\nedges = \"right\"\np = 1.0\n");
+  const auto r4 = stratum("check " + p4);
+  INFO(r4.err);
+  CHECK(r4.code == 0);
+  CHECK(r4.err == "stratum: warning: " + p4 +
+                      ":3:8 [mesh] file = \"empty_sets.msh\": 5 physical groups that the scene never "
+                      "names: left, no_cells, no_edges, no_nodes, top (harmless if left over; otherwise "
+                      "check the set names)\n");
+  CHECK(stratum("check --quiet " + p4).err.empty());
 }
 
 TEST_CASE("cli: every key a table accepts is in its stratum describe section", "[cli][describe]") {

@@ -106,6 +106,9 @@ public:
   /// Libraries opened for this scene.
   [[nodiscard]] std::vector<std::string> opened_libraries() const;
   [[nodiscard]] std::string title() const;
+  /// What the reader found suspicious but not wrong, one located line each (`stratum check`
+  /// prints them): sets the user named in a Gmsh file that the scene never names.
+  [[nodiscard]] std::vector<std::string> warnings() const;
 
   struct Impl;
 
