@@ -107,7 +107,8 @@ public:
   [[nodiscard]] std::vector<std::string> opened_libraries() const;
   [[nodiscard]] std::string title() const;
   /// What the reader found suspicious but not wrong, one located line each (`stratum check`
-  /// prints them): sets the user named in a Gmsh file that the scene never names.
+  /// prints them): cells that no [[domains]] entry covers, sets the user named in a Gmsh file
+  /// that the scene never names.
   [[nodiscard]] std::vector<std::string> warnings() const;
 
   struct Impl;

@@ -17,13 +17,13 @@ using scene::table_list;
 
 namespace {
 
-/// Throws a located Error when a cell of the mesh belongs to no [[domains]] entry (owner < 0):
-/// the count, the first cell indices and the cell sets that lie wholly outside every domain.
-void check_domain_cover(const Mesh& mesh, const std::vector<int>& owner, const SourceLocation& at) {
+/// A located line when cells of the mesh belong to no [[domains]] entry (owner < 0): the count,
+/// the first cell indices and the cell sets that lie wholly outside every domain; "" when none.
+std::string domain_cover(const Mesh& mesh, const std::vector<int>& owner, const SourceLocation& at) {
   std::vector<int> lost;
   for (std::size_t c = 0; c < owner.size(); ++c)
     if (owner[c] < 0) lost.push_back(static_cast<int>(c));
-  if (lost.empty()) return;
+  if (lost.empty()) return {};
   std::string cells;
   for (std::size_t i = 0; i < lost.size() && i < 10; ++i) cells += (i ? ", " : "") + std::to_string(lost[i]);
   if (lost.size() > 10) cells += ", ...";
@@ -34,11 +34,11 @@ void check_domain_cover(const Mesh& mesh, const std::vector<int>& owner, const S
     for (int c : members) none = none && owner[static_cast<std::size_t>(c)] < 0;
     if (none) sets += (sets.empty() ? "" : ", ") + name;
   }
-  throw Error(at, std::to_string(lost.size()) + " of " + std::to_string(owner.size()) +
-                      " cells belong to no [[domains]] entry (cells " + cells + ")" +
-                      (sets.empty() ? std::string() : "; cell sets without a domain: " + sets) +
-                      "; such cells would never carry load; give every cell a [[domains]] entry "
-                      "(cells, element, material)");
+  return at.str() + " " + std::to_string(lost.size()) + " of " + std::to_string(owner.size()) +
+         " cells belong to no [[domains]] entry (cells " + cells + ")" +
+         (sets.empty() ? std::string() : "; cell sets without a domain: " + sets) +
+         "; they stay out of the model for the whole run (a cavity); give them a [[domains]] entry "
+         "(cells, element, material) if they are to carry load";
 }
 
 } // namespace
@@ -122,10 +122,12 @@ void Analysis::Impl::read_domains(const toml::table& root) {
     dm.states.revert();
     model.domains.push_back(std::move(dm));
   }
-  // A cell that no domain covers has no element and no material: it would stay inactive for the
-  // whole run, and the mesh around it would be cut (found on 997ba04: `check` said ok, then the
-  // run failed with a Newton message). An error, since no action can ever make such a cell act.
-  check_domain_cover(model.mesh, owner, location(*root.get("domains")));
+  // A cell that no domain covers has no element and no material: it stays out of the model for
+  // the whole run (found on 997ba04: `check` said ok, then the run failed with a Newton message).
+  // A warning, not an error: leaving cells of a generated mesh out is a way to model a cavity
+  // (the pile mesher's pile cells in a soil-only analysis).
+  if (auto w = domain_cover(model.mesh, owner, location(*root.get("domains"))); !w.empty())
+    warnings.push_back(std::move(w));
 }
 
 void Analysis::Impl::read_constraints(const toml::table& root) {

@@ -69,7 +69,8 @@ void Analysis::Impl::read_mesh(const toml::table& root, const SourceLocation& pi
     const bool own_reader = generator == "blocks" || generator == "gmsh";
     const std::string sub = own_reader || generator.empty() ? "" : generator_table(generator);
     const TableKeys keys = mesh_keys();
-    std::vector<std::string_view> extra{"blocks"}; // keys.other: blocks, and the generator's table
+    // keys.other: blocks, and the generator's table (whose name depends on the generator)
+    std::vector<std::string_view> extra{keys.other.at(0).name};
     if (!sub.empty()) extra.push_back(sub);
     const auto mp = check_table(mt, keys.schema, "[mesh]", extra);
     if (mp.text("generator") == "blocks") {

@@ -49,8 +49,8 @@ void Analysis::Impl::build(const toml::table& root) {
       options.plugin_dirs.empty() ? PluginCatalog::default_directories() : options.plugin_dirs;
   {
     const auto& pt = optional_table(root, "plugins");
+    const TableKeys plugin_keys = plugins_keys(); // path only
     for (auto&& [key, value] : pt) {
-      static const auto plugin_keys = plugins_keys(); // path only
       if (key.str() != plugin_keys.other.at(0).name)
         throw Error(location(key.source()),
                     "[plugins] unknown key '" + std::string(key.str()) + "'; allowed: path");
