@@ -158,7 +158,7 @@ TEST_CASE("cli: the short plugin list has one line per plugin; --all the full li
 }
 
 TEST_CASE("cli: --help on every subcommand prints usage, options and exit status and exits 0", "[cli]") {
-  for (const std::string cmd : {"run", "check", "point", "fit", "sweep", "plugins"}) {
+  for (const std::string cmd : {"run", "check", "point", "fit", "sweep", "plugins", "describe"}) {
     for (const auto& form : {cmd + " --help", cmd + " -h", "help " + cmd}) {
       const auto h = stratum(form);
       INFO(form << "\nstdout: " << h.out << "\nstderr: " << h.err);
@@ -232,14 +232,17 @@ TEST_CASE("cli: --quiet prints nothing on a good run; progress lines when stderr
   CHECK(c.code == 0);
   CHECK(c.out.empty());
   CHECK(c.err.empty());
-  // stderr is a file here: with --progress-every 0 a line per step, with step, load factor,
-  // iterations and elapsed time; stdout keeps its summary.
+  // stderr is a file here: with --progress-every 0 a line per step, with the stage (a scene
+  // without stages runs one stage named "load"), step, load factor, iterations and elapsed time;
+  // stdout keeps its summary.
   const auto p = stratum("run " + path + " --progress-every 0 --out " + (scratch() / "progress").string());
   INFO(p.err);
   CHECK(p.code == 0);
   CHECK(p.out.find("done: ") != std::string::npos);
   CHECK(std::regex_search(
-      p.err, std::regex(R"(^progress: step 1/\d+  load factor [0-9.]+  iterations \d+  elapsed [0-9.]+ s)")));
+      p.err,
+      std::regex(
+          R"(^progress: stage 1/1 "load"  step 1/\d+  load factor [0-9.]+  iterations \d+  elapsed [0-9.]+ s)")));
   CHECK(p.err.find("\r") == std::string::npos);
   expect_one_line_error(stratum("run " + path + " --progress-every soon"), "",
                         "--progress-every needs a number of seconds >= 0");
@@ -464,4 +467,146 @@ TEST_CASE("recorders write the quantities asked for, and a scene's [[checks]] de
   CHECK(e2.code == 1);
   CHECK(e2.err.find("[[checks]] #2 quantity = \"uy\" is not recorded by \"outer\"; it records: ux") !=
         std::string::npos);
+}
+
+TEST_CASE("cli: stratum describe lists the scene's sections and describes each from the reader's schemas",
+          "[cli][describe]") {
+  const auto list = stratum("describe");
+  INFO(list.err);
+  CHECK(list.code == 0);
+  for (const char* line :
+       {"analysis        [analysis]", "mesh.blocks     [[mesh.blocks]]", "stages.actions  [[stages.actions]]",
+        "output.history  [[output.history]]", "checks          [[checks]]", "include         include = ..."})
+    CHECK(list.out.find(std::string("\n") + line) != std::string::npos);
+  // One section in full: type, unit, allowed, default or required, and the meaning below.
+  const auto a = stratum("describe analysis");
+  CHECK(a.code == 0);
+  CHECK(a.out.rfind("[analysis]: ", 0) == 0);
+  CHECK(a.out.find("\n  max_cutbacks       integer  -       [0, 30], default 4\n      how many times a "
+                   "failed step may be halved") != std::string::npos);
+  // The stage actions, each with its own keys; brackets are allowed around the name.
+  const auto sa = stratum("describe '[[stages.actions]]'");
+  CHECK(sa.code == 0);
+  CHECK(sa.out.find("[[stages.actions]] type = \"geostatic\": ") != std::string::npos);
+  CHECK(sa.out.find("\n  K0                 number   -       (0, inf), required\n") != std::string::npos);
+  CHECK(sa.out.find("[[stages.actions]] type = \"load\": ") != std::string::npos);
+  // [[stages]] inherits its defaults from [analysis] and [output]; recorders list each kind.
+  CHECK(stratum("describe stages").out.find("\n  max_cutbacks       integer  -       [0, 30], default 4") !=
+        std::string::npos);
+  CHECK(stratum("describe output.history").out.find("kind = \"node\" records: ux, uy, rx, ry") !=
+        std::string::npos);
+  CHECK(stratum("describe mesh.generators").out.find("generator = \"axisymmetric_pile\": [mesh.pile]") !=
+        std::string::npos);
+  // The sets a generator defines come from a mesh it generates (the pile mesher's shaft zone).
+  CHECK(stratum("describe mesh.generators").out.find(", near_shaft, pile, ") != std::string::npos);
+  CHECK(stratum("describe solver").out.find("[solver] solver = \"newton\": ") != std::string::npos);
+  // Unknown sections: the known ones and a suggestion.
+  const auto bad = stratum("describe stagse");
+  expect_one_line_error(bad, "", "describe: unknown section 'stagse'; known: scene, include, analysis");
+  CHECK(bad.err.find("did you mean 'stages'?") != std::string::npos);
+  expect_one_line_error(stratum("describe --markdwon"), "", "describe: unknown option '--markdwon'");
+}
+
+TEST_CASE("cli: check warns about cells that no [[domains]] entry covers", "[cli][describe]") {
+  // A second block "cap" (4 cells) that no domain names: it stays out of the model (on 997ba04
+  // check said ok and the run failed with a Newton message).
+  const auto p =
+      write_scene("no_domain.toml",
+                  edit("nx = 4\nny = 1\n", "nx = 4\nny = 1\n[[mesh.blocks]]\nname = \"cap\"\nx = [1.0, 2.0]\n"
+                                           "y = [0.5, 1.0]\nnx = 4\nny = 1\n"));
+  const auto r = stratum("check " + p);
+  INFO(r.err);
+  CHECK(r.code == 0);
+  CHECK(r.err == "stratum: warning: " + p +
+                     ":22:1 4 of 8 cells belong to no [[domains]] entry (cells 4, 5, 6, 7); cell sets "
+                     "without a domain: cap; they stay out of the model for the whole run (a cavity); "
+                     "give them a [[domains]] entry (cells, element, material) if they are to carry load\n");
+  CHECK(r.out.find(": ok (") != std::string::npos);
+  // The same scene with the cap in a domain is good.
+  std::string fixed =
+      edit("nx = 4\nny = 1\n", "nx = 4\nny = 1\n[[mesh.blocks]]\nname = \"cap\"\nx = [1.0, 2.0]\n"
+                               "y = [0.5, 1.0]\nnx = 4\nny = 1\n");
+  fixed += "[[domains]]\ncells = \"cap\"\nelement = \"quad\"\nmaterial = \"soil\"\n";
+  const auto ok = stratum("check " + write_scene("cap_domain.toml", fixed));
+  INFO(ok.err);
+  CHECK(ok.code == 0);
+}
+
+TEST_CASE("cli: a load on an empty set is an error located at the set's key", "[cli][describe]") {
+  // patch_quad4.msh with three physical groups that hold no element: an edge, a node and a cell set.
+  std::ifstream in(std::string(STRATUM_TEST_DATA_DIR) + "/patch_quad4.msh");
+  std::stringstream msh;
+  msh << in.rdbuf();
+  std::string text = msh.str();
+  const std::string names = "$PhysicalNames\n5\n";
+  REQUIRE(text.find(names) != std::string::npos);
+  text.replace(text.find(names), names.size(),
+               "$PhysicalNames\n8\n1 6 \"no_edges\"\n0 7 \"no_nodes\"\n2 8 \"no_cells\"\n");
+  std::ofstream(scratch() / "empty_sets.msh") << text;
+  const std::string head = "[mesh]\ngenerator = \"gmsh\"\nfile = \"empty_sets.msh\"\n"
+                           "[materials.soil]\nmodel = \"linear_elastic\"\nE = 1000.0\nnu = 0.3\n"
+                           "[[domains]]\ncells = \"patch\"\nelement = \"quad\"\nmaterial = \"soil\"\n"
+                           "[[constraints]]\nnodes = \"bottom\"\nux = 0.0\nuy = 0.0\n";
+  const auto p1 = write_scene("empty_edges.toml",
+                              head + "[[loads]]\ntype = \"pressure\"\nedges = \"no_edges\"\np = 1.0\n");
+  expect_one_line_error(stratum("check " + p1), p1 + ":18:9 ",
+                        "[[loads]] type = \"pressure\" edges = \"no_edges\" is an empty edge set: the load "
+                        "would act on nothing");
+  const auto p2 =
+      write_scene("empty_nodes.toml", head + "[[loads]]\ntype = \"force\"\nnodes = \"no_nodes\"\nfy = 1.0\n");
+  expect_one_line_error(stratum("check " + p2), p2 + ":18:9 ",
+                        "nodes = \"no_nodes\" is an empty node set: the load would act on nothing");
+  const auto p3 = write_scene("empty_cells.toml",
+                              head + "[[stages]]\nname = \"push\"\n[[stages.actions]]\ntype = \"load\"\n"
+                                     "cells = \"no_cells\"\nforce = 10.0\n");
+  expect_one_line_error(stratum("check " + p3), p3 + ":20:9 ",
+                        "[[stages]] #1 [[stages.actions]] #1 type = \"load\" cells = \"no_cells\" is an "
+                        "empty cell set");
+  // The same mesh loaded on a set with members: good, and a warning names the physical groups
+  // that the scene never names (only Gmsh's: generated meshes define many unused sets).
+  const auto p4 =
+      write_scene("named_sets.toml", head + "[[loads]]\ntype = \"pressure\"\nedges = \"right\"\np = 1.0\n");
+  const auto r4 = stratum("check " + p4);
+  INFO(r4.err);
+  CHECK(r4.code == 0);
+  CHECK(r4.err == "stratum: warning: " + p4 +
+                      ":3:8 [mesh] file = \"empty_sets.msh\": 5 physical groups that the scene never "
+                      "names: left, no_cells, no_edges, no_nodes, top (harmless if left over; otherwise "
+                      "check the set names)\n");
+  CHECK(stratum("check --quiet " + p4).err.empty());
+}
+
+TEST_CASE("cli: every key a table accepts is in its stratum describe section", "[cli][describe]") {
+  // An unknown key makes the reader list the keys it accepts; each must be described.
+  const struct {
+    const char* section;
+    std::string scene;
+  } cases[] = {
+      {"analysis", edit("formulation = \"axisymmetric\"\n", "formulation = \"axisymmetric\"\nzzz = 1\n")},
+      {"output", good + "[output]\nzzz = 1\n"},
+      {"constraints", edit("nodes = \"bottom\"\n", "nodes = \"bottom\"\nzzz = 1\n")},
+      {"mesh", edit("nodes_per_cell = 8\n", "nodes_per_cell = 8\nzzz = 1\n")},
+      {"mesh.blocks", edit("nx = 4\n", "nx = 4\nzzz = 1\n")},
+  };
+  for (const auto& c : cases) {
+    const auto r = stratum("check " + write_scene("keys.toml", c.scene));
+    INFO(c.section << ": " << r.err);
+    REQUIRE(r.code == 1);
+    const auto at = r.err.find("; allowed: ");
+    REQUIRE(at != std::string::npos);
+    std::string list = r.err.substr(at + 11);
+    list = list.substr(0, list.find_first_of(";\n"));
+    const auto d = stratum(std::string("describe ") + c.section);
+    REQUIRE(d.code == 0);
+    int keys = 0;
+    for (std::size_t from = 0; from < list.size();) {
+      const auto comma = std::min(list.find(", ", from), list.size());
+      const std::string key = list.substr(from, comma - from);
+      INFO("key " << key);
+      CHECK(d.out.find("\n  " + key + " ") != std::string::npos);
+      ++keys;
+      from = comma + 2;
+    }
+    CHECK(keys >= 2);
+  }
 }

@@ -5,6 +5,7 @@
 //   stratum check SCENE.toml [--quiet]
 //   stratum point POINT.toml [--out FILE.csv]
 //   stratum plugins [--describe [NAME] | --all | --paths]
+//   stratum describe [SECTION | --markdown]
 //   stratum fit TARGET CSV... [-o FILE]   (framework/cli/fit.cpp)
 //   stratum sweep STUDY.toml [--out DIR]  (framework/cli/sweep.cpp; also under mpirun)
 //   stratum --version
@@ -16,6 +17,7 @@
 #include "stratum/plugin.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/point_driver.hpp"
+#include "stratum/scene_reference.hpp"
 #include "stratum/suggest.hpp"
 #include "sweep.hpp"
 
@@ -58,6 +60,7 @@ constexpr const char* usage =
     "       stratum check SCENE.toml [--quiet]\n"
     "       stratum point POINT.toml [--out FILE.csv]\n"
     "       stratum plugins [--describe [NAME] | --all | --paths]\n"
+    "       stratum describe [SECTION | --markdown]   the scene format: sections and their keys\n"
     "       stratum fit TARGET CSV... [-o FILE.toml]\n"
     "       stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]   (also under mpirun -n N)\n"
     "       stratum --version\n"
@@ -81,8 +84,8 @@ constexpr const char* run_help =
     "  --verbose                  one line per accepted step on stderr (iterations, cut-backs, rate,\n"
     "                             order, time, residuals)\n"
     "  --quiet                    no progress and no summary; errors only (stderr)\n"
-    "  --progress-every SECONDS   when stderr is not a terminal, a progress line (step, load factor,\n"
-    "                             iterations, elapsed time, estimate for the stage) at most every\n"
+    "  --progress-every SECONDS   when stderr is not a terminal, a progress line (stage, step, load\n"
+    "                             factor, iterations, elapsed time, estimate for the stage) at most every\n"
     "                             SECONDS (default 5; 0: every step); on a terminal one line is\n"
     "                             rewritten in place\n"
     "  -h, --help                 this text\n"
@@ -96,7 +99,10 @@ constexpr const char* check_help =
     "usage: stratum check SCENE.toml [--quiet]\n"
     "\n"
     "Reads the scene, builds the mesh and the model and opens the plugins it names, without\n"
-    "solving; prints the size of the model.\n"
+    "solving; prints the size of the model. Refused (exit 1): loads on empty sets and every\n"
+    "error a run would report before its first step. Warned (stderr, exit 0): cells that no\n"
+    "[[domains]] entry covers (they stay out of the model: a cavity, or a forgotten domain) and\n"
+    "physical groups of a Gmsh mesh that the scene never names.\n"
     "\n"
     "options:\n"
     "  --quiet      print nothing when the scene is good\n"
@@ -136,18 +142,37 @@ constexpr const char* plugins_help =
     "exit status: 0 listed, 1 unknown plugin name or a plugin library that cannot be opened,\n"
     "  3 internal error\n";
 
+constexpr const char* describe_help =
+    "usage: stratum describe              the sections of a scene file, one line each\n"
+    "       stratum describe SECTION      one section in full: every key with its type, unit,\n"
+    "                                     allowed values, default (or required) and meaning; for\n"
+    "                                     [solver], [mesh.<generator>] and [[stages.actions]] the keys\n"
+    "                                     of each solver, generator and action type\n"
+    "       stratum describe --markdown   the whole reference as Markdown (docs/scene-reference.md)\n"
+    "\n"
+    "SECTION is a name from the list, e.g. analysis, mesh.blocks, stages.actions, output.history,\n"
+    "with or without its brackets. The keys are those the scene reader checks the tables against.\n"
+    "Materials, elements and contact laws are plugins: stratum plugins --describe NAME.\n"
+    "\n"
+    "options:\n"
+    "  -h, --help   this text\n"
+    "\n"
+    "exit status: 0 described, 1 unknown section (with the known ones), 3 internal error\n";
+
 /// The --help text of a subcommand; nullptr for an unknown one.
 const char* help_of(const std::string& cmd) {
   if (cmd == "run") return run_help;
   if (cmd == "check") return check_help;
   if (cmd == "point") return point_help;
   if (cmd == "plugins") return plugins_help;
+  if (cmd == "describe") return describe_help;
   if (cmd == "fit") return stratum::cli::fit_help();
   if (cmd == "sweep") return stratum::cli::sweep_help();
   return nullptr;
 }
 
-constexpr const char* commands[] = {"run", "check", "point", "fit", "sweep", "plugins", "help", "--version"};
+constexpr const char* commands[] = {"run",     "check",    "point", "fit",      "sweep",
+                                    "plugins", "describe", "help",  "--version"};
 
 constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material,     PluginKind::contact_law,
                                 PluginKind::solver,  PluginKind::stage_action, PluginKind::mesh_generator};
@@ -157,33 +182,7 @@ void describe(const Registry& reg, PluginKind kind, const std::string& name, boo
   const Schema& s = reg.schema(kind, name, &summary, &library);
   std::cout << to_string(kind) << " " << name << ": " << summary << "\n";
   if (full) std::cout << "  library: " << library << "\n";
-  for (const auto& p : s.specs()) {
-    std::cout << "  " << std::left << std::setw(18) << p.name << " " << std::setw(8) << to_string(p.type)
-              << " " << std::setw(7) << (p.unit.empty() ? "-" : p.unit) << " " << p.allowed();
-    if (p.fallback) {
-      std::ostringstream d;
-      std::visit(
-          [&](const auto& v) {
-            using T = std::decay_t<decltype(v)>;
-            if constexpr (std::is_same_v<T, std::vector<double>>) {
-              d << "[";
-              for (std::size_t i = 0; i < v.size(); ++i) d << (i ? ", " : "") << v[i];
-              d << "]";
-            } else if constexpr (std::is_same_v<T, bool>) {
-              d << (v ? "true" : "false");
-            } else if constexpr (std::is_same_v<T, std::string>) {
-              d << '"' << v << '"';
-            } else {
-              d << v;
-            }
-          },
-          *p.fallback);
-      std::cout << ", default " << d.str();
-    } else {
-      std::cout << ", required";
-    }
-    std::cout << "\n      " << p.meaning << "\n";
-  }
+  write_schema(std::cout, s);
 }
 
 int plugins(const std::vector<std::string>& args) {
@@ -236,23 +235,52 @@ int plugins(const std::vector<std::string>& args) {
   return 0;
 }
 
+/// `stratum describe [SECTION | --markdown]`: the scene format's reference (scene_reference.hpp).
+int describe_scene(const std::vector<std::string>& args) {
+  if (args.size() > 1)
+    throw Error("describe: give one section at most (got '" + args[0] + "', '" + args[1] +
+                "', ...); see stratum describe --help");
+  if (args.empty()) {
+    list_scene_sections(std::cout);
+    std::cout << "(stratum describe SECTION: the keys of one section)\n";
+    return 0;
+  }
+  if (args[0].size() > 1 && args[0][0] == '-' && args[0] != "--markdown")
+    throw Error("describe: unknown option '" + args[0] + "'; allowed: --markdown, --help" +
+                did_you_mean(args[0], std::vector<std::string_view>{"--markdown", "--help"}));
+  // The registry as a scene sees it: the framework's stage actions and mesh generators, and
+  // every plugin found (the solvers, the plugins' actions and generators).
+  PluginCatalog catalog(PluginCatalog::default_directories());
+  Registry reg;
+  register_builtin_factories(reg);
+  catalog.require_all(reg);
+  std::ostringstream out; // nothing printed before the whole text is made
+  if (args[0] == "--markdown")
+    write_scene_reference_markdown(out, reg);
+  else
+    describe_scene_section(out, reg, args[0]);
+  std::cout << out.str();
+  return 0;
+}
+
 /// The progress of a run on stderr: on a terminal one line rewritten in place after every step;
-/// otherwise (a batch job, a log file) one line at most every `every` seconds. The step callback
-/// does not say which stage runs: a stage is taken to start when the step number starts again.
+/// otherwise (a batch job, a log file) one line at most every `every` seconds.
 class Progress {
 public:
   Progress(bool tty, double every) : tty_(tty), every_(every) {}
+  /// A stage starts (RunOptions::on_stage).
+  void stage(const std::string& name, int number, int count) {
+    stage_start_ = Clock::now();
+    stage_ = "stage " + std::to_string(number) + "/" + std::to_string(count) + " \"" + name + "\"  ";
+  }
   void step(int step, int steps, double lambda, int iterations) {
     const auto now = Clock::now();
-    if (step <= last_step_) stage_start_ = last_; // the step count started again: a new stage
-    last_step_ = step;
-    last_ = now;
     if (!tty_ && seconds(last_shown_, now) < every_) return; // the first after `every` s
     last_shown_ = now;
     shown_ = true;
     std::ostringstream o;
-    o << "step " << step << "/" << steps << "  load factor " << std::fixed << std::setprecision(4) << lambda
-      << "  iterations " << iterations << "  elapsed " << duration(seconds(start_, now));
+    o << stage_ << "step " << step << "/" << steps << "  load factor " << std::fixed << std::setprecision(4)
+      << lambda << "  iterations " << iterations << "  elapsed " << duration(seconds(start_, now));
     // The load factor goes from 0 to 1 over a stage: the time per unit of it so far gives the rest.
     if (lambda > 0.0 && lambda < 1.0)
       o << "  about " << duration(seconds(stage_start_, now) * (1.0 - lambda) / lambda)
@@ -284,8 +312,8 @@ private:
   bool tty_;
   double every_;
   bool shown_ = false;
-  int last_step_ = 0;
-  Clock::time_point start_ = Clock::now(), stage_start_ = start_, last_ = start_, last_shown_ = start_;
+  std::string stage_; ///< "stage 2/3 \"load\"  ", empty before the first stage starts
+  Clock::time_point start_ = Clock::now(), stage_start_ = start_, last_shown_ = start_;
 };
 
 /// Sends std::cout nowhere while it lives (--quiet); errors go to std::cerr and stay.
@@ -397,11 +425,16 @@ int run(const std::vector<std::string>& args, bool check_only) {
   };
   opts.interrupted = [] { return stop_signal != 0; };
   Progress progress(tty, progress_every);
+  opts.on_stage = [&](const std::string& name, int number, int count) {
+    progress.stage(name, number, count);
+  };
   opts.on_step = [&](int step, int steps, double lambda, const StepReport& rep) {
     if (!verbose && !quiet) progress.step(step, steps, lambda, rep.iterations); // --verbose: on_record
   };
   auto analysis = Analysis::from_file(scene, opts);
   if (check_only) {
+    if (!quiet) // --quiet: errors only
+      for (const auto& w : analysis->warnings()) std::cerr << "stratum: warning: " << w << "\n";
     const auto& m = analysis->model();
     std::cout << scene << ": ok (" << m.mesh.nodes.size() << " nodes, " << m.mesh.cells.size() << " cells, "
               << m.dofs.free_count << " unknowns, " << analysis->opened_libraries().size()
@@ -510,7 +543,8 @@ int main(int argc, char** argv) {
     if ((cmd == "help" || cmd == "--help" || cmd == "-h") && !rest.empty()) {
       if (!help_of(rest[0]))
         throw Error("help: unknown command '" + rest[0] +
-                    "'; allowed: run, check, point, fit, sweep, plugins" + did_you_mean(rest[0], commands));
+                    "'; allowed: run, check, point, fit, sweep, plugins, describe" +
+                    did_you_mean(rest[0], commands));
       std::cout << help_of(rest[0]);
       return 0;
     }
@@ -521,6 +555,7 @@ int main(int argc, char** argv) {
     if (cmd == "run") return run(rest, false);
     if (cmd == "check") return run(rest, true);
     if (cmd == "plugins") return plugins(rest);
+    if (cmd == "describe") return describe_scene(rest);
     if (cmd == "point") return point(rest);
     if (cmd == "fit") return stratum::cli::fit(rest);
     if (cmd == "sweep") return stratum::cli::sweep(rest);
@@ -529,7 +564,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     throw Error("unknown command '" + cmd +
-                "'; allowed: run, check, point, fit, sweep, plugins, help, --version" +
+                "'; allowed: run, check, point, fit, sweep, plugins, describe, help, --version" +
                 did_you_mean(cmd, commands));
   } catch (const stratum::Error& e) {
     std::cerr << "stratum: " << e.what() << "\n";

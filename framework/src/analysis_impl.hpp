@@ -49,6 +49,7 @@ struct Analysis::Impl {
   std::vector<stage::LoadSpec> loads; ///< loads applied at the current state, in order
   Eigen::VectorXd initial_prescribed; ///< [[constraints]] values, applied over the first stage
   std::string fingerprint;
+  std::vector<std::string> warnings;  ///< Analysis::warnings()
   std::vector<FingerprintPart> parts; ///< checked on restart (scene_fingerprint.hpp)
   double time = 0.0;                  ///< output time: stage number - 1 + load factor
   // What the VTK field data of a step says (write_step): the stage running, its step, and the
@@ -63,6 +64,7 @@ struct Analysis::Impl {
   // Reading the scene (framework/src/scene/): build() reads the whole scene in this order.
   void build(const toml::table& root);
   void read_mesh(const toml::table& root, const SourceLocation& pile_cells_at);
+  void unused_physical_groups(const toml::table& root, const SourceLocation& at, const std::string& file);
   void read_domains(const toml::table& root);
   void read_constraints(const toml::table& root);
   void read_stages(const toml::table& root);

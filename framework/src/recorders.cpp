@@ -1,5 +1,6 @@
 #include "recorders.hpp"
 
+#include "scene/schemas.hpp"
 #include "stratum/body_interfaces.hpp"
 #include "stratum/suggest.hpp"
 #include "toml_check.hpp"
@@ -14,9 +15,7 @@ namespace stratum {
 
 using io::location;
 
-namespace {
-
-const std::vector<std::string>& allowed(const std::string& kind) {
+const std::vector<std::string>& recorder_quantities(const std::string& kind) {
   static const std::vector<std::string> node{"ux", "uy", "rx", "ry"};
   static const std::vector<std::string> point{"x",   "y",   "sxx", "syy", "szz",   "sxy",
                                               "exx", "eyy", "ezz", "gxy", "status"};
@@ -28,6 +27,10 @@ const std::vector<std::string>& allowed(const std::string& kind) {
   if (kind == "interface") return iface;
   return node; // node, nodes
 }
+
+namespace {
+
+const std::vector<std::string>& allowed(const std::string& kind) { return recorder_quantities(kind); }
 
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
@@ -75,17 +78,8 @@ std::vector<InterfacePoint> ordered_along(std::vector<InterfacePoint> pts) {
 } // namespace
 
 Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& model) {
-  Schema s;
-  s.text("name", {}, "recorder name: the file history/<name>.csv");
-  s.text("kind", {"node", "nodes", "point", "global", "interface"},
-         "one node at `at`, a node or edge `set` (mean displacement, summed reaction), the "
-         "integration point nearest to `at`, global quantities, or the points of an interface "
-         "(traction and jump along it, one row per point)");
-  s.text("set", {},
-         "nodes: the node or edge set; interface: the [[interfaces]] name (by default its edge set's)")
-      .defaults_to(std::string());
-  s.real_list("at", "m", "node, point: the location [x, y]").defaults_to(std::vector<double>{});
-  const Params p = io::check_table(t, s, ctx, {"quantities"});
+  const scene::TableKeys keys = scene::recorder_keys();
+  const Params p = io::check_table(t, keys.schema, ctx, keys.other_names());
   name_ = p.text("name");
   kind_ = p.text("kind");
   set_ = p.text("set");
@@ -264,13 +258,7 @@ std::string Recorder::csv() const {
 }
 
 Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<Recorder>& recorders) {
-  Schema s;
-  s.text("recorder", {}, "name of an [[output.history]] recorder");
-  s.text("quantity", {}, "one of the recorder's quantities; its value at the last recorded step is checked");
-  s.real("expected", "-", "the expected value (in the quantity's unit), e.g. from a closed form");
-  s.real("rtol", "-", "relative tolerance").at_least(0).defaults_to(0.0);
-  s.real("atol", "-", "absolute tolerance (the quantity's unit)").at_least(0).defaults_to(0.0);
-  const Params p = io::check_table(t, s, ctx);
+  const Params p = io::check_table(t, scene::check_schema(), ctx);
   Check c{p.text("recorder"), p.text("quantity"), p.real("expected"),
           p.real("rtol"),     p.real("atol"),     location(t)};
   if (c.rtol == 0.0 && c.atol == 0.0)

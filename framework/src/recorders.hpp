@@ -40,6 +40,9 @@
 
 namespace stratum {
 
+/// The quantities a recorder of `kind` records (node, nodes, point, global, interface), in order.
+[[nodiscard]] const std::vector<std::string>& recorder_quantities(const std::string& kind);
+
 struct RecorderRow {
   int stage = 0, step = 0;
   double lambda = 0.0;

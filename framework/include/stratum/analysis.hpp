@@ -26,6 +26,9 @@ struct RunOptions {
   bool write_output = true;             ///< false: solve only (tests, benchmarks)
   /// Called after every accepted step (progress line, verbose diagnostics); may be empty.
   std::function<void(int step, int steps, double lambda, const StepReport&)> on_step;
+  /// Called when a stage starts (before its first step): its name, its number (1-based) and the
+  /// number of stages; may be empty. The progress line names the stage from it.
+  std::function<void(const std::string& stage, int number, int count)> on_stage;
   /// Called after every accepted step with its diagnostics record; may be empty.
   std::function<void(const StepRecord&)> on_record;
   /// Polled after every accepted step; true ends the run there like an early stop
@@ -103,6 +106,10 @@ public:
   /// Libraries opened for this scene.
   [[nodiscard]] std::vector<std::string> opened_libraries() const;
   [[nodiscard]] std::string title() const;
+  /// What the reader found suspicious but not wrong, one located line each (`stratum check`
+  /// prints them): cells that no [[domains]] entry covers, sets the user named in a Gmsh file
+  /// that the scene never names.
+  [[nodiscard]] std::vector<std::string> warnings() const;
 
   struct Impl;
 

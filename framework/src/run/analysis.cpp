@@ -43,5 +43,6 @@ const Model& Analysis::model() const { return impl_->model; }
 Model& Analysis::model() { return impl_->model; }
 std::vector<std::string> Analysis::opened_libraries() const { return impl_->catalog->opened(); }
 std::string Analysis::title() const { return impl_->title; }
+std::vector<std::string> Analysis::warnings() const { return impl_->warnings; }
 
 } // namespace stratum

@@ -18,6 +18,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   stage_name = st.name;
   stage_number = static_cast<int>(k) + 1;
   stage_step = 0;
+  if (options.on_stage) options.on_stage(st.name, stage_number, static_cast<int>(stages.size()));
   Model& m = model;
   m.prescribed = k == 0 ? initial_prescribed : Eigen::VectorXd::Zero(m.u.size());
   m.prescribed_base = m.u;

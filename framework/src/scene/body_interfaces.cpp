@@ -1,6 +1,7 @@
 #include "stratum/body_interfaces.hpp"
 
 #include "scene/plugin_table.hpp"
+#include "scene/schemas.hpp"
 #include "scene_interfaces.hpp"
 #include "toml_check.hpp"
 
@@ -178,15 +179,16 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
   if (const toml::node* n = root.get("contact_laws")) {
     const auto* laws = n->as_table();
     if (!laws) throw Error(location(*n), "contact_laws must be a table of [contact_laws.<name>] tables");
+    const Schema law_keys = scene::contact_law_schema();
     for (auto&& [key, value] : *laws) {
       const std::string name(key.str());
       const std::string ctx = "[contact_laws." + name + "]";
       const auto* t = value.as_table();
       if (!t) throw Error(location(value), ctx + " must be a table");
       const std::string model_name = require_string(*t, "model", ctx);
-      out.laws.push_back(
-          scene::plugin_from_table<ContactLaw>(catalog, registry, model_name, location(*t->get("model")),
-                                               ctx + " model = \"" + model_name + "\"", *t, ctx, {"model"}));
+      out.laws.push_back(scene::plugin_from_table<ContactLaw>(
+          catalog, registry, model_name, location(*t->get("model")), ctx + " model = \"" + model_name + "\"",
+          *t, ctx, scene::key_names(law_keys)));
       law_by_name[name] = out.laws.back().get();
     }
   }
@@ -197,6 +199,7 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
   const auto* arr = list->as_array();
   if (!arr) throw Error(location(*list), "interfaces must be an array of tables [[interfaces]]");
   int index = 0;
+  const Schema interface_keys = scene::interface_schema();
   for (const auto& entry : *arr) {
     ++index;
     const auto* t = entry.as_table();
@@ -250,7 +253,7 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
                       "thin cells given as [[domains]] with a material)");
     auto made = scene::plugin_table<Element>(catalog, registry, element, location(*t->get("element")),
                                              ctx + " element = \"" + element + "\"", *t, ctx,
-                                             {"name", "edges", "cells", "element", "law", "csv"});
+                                             scene::key_names(interface_keys));
     scene::follow_formulation(made.factory->schema, *t, made.params, model.formulation, ctx);
     InterfaceSplit split;
     try {

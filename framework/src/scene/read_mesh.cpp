@@ -11,6 +11,8 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <set>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -23,6 +25,42 @@ using scene::table_at;
 using scene::table_list;
 using namespace scene;
 
+namespace {
+
+/// Every string value of a table, at any depth.
+void strings_of(const toml::node& n, std::set<std::string>& out) {
+  if (const auto* s = n.as_string()) out.insert(s->get());
+  if (const auto* t = n.as_table())
+    for (auto&& [k, v] : *t) strings_of(v, out);
+  if (const auto* a = n.as_array())
+    for (const auto& v : *a) strings_of(v, out);
+}
+
+} // namespace
+
+// A Gmsh file's physical groups are names the user chose; one that no string of the scene names
+// is likely a misspelling elsewhere (or a group left over). Generated meshes are not looked at:
+// their generators define many sets a scene does not need (the pile mesher some forty).
+void Analysis::Impl::unused_physical_groups(const toml::table& root, const SourceLocation& at,
+                                            const std::string& file) {
+  std::set<std::string> named;
+  strings_of(root, named);
+  std::set<std::string> unused;
+  for (const auto* sets : {&model.mesh.cell_sets, &model.mesh.node_sets})
+    for (const auto& [name, v] : *sets)
+      if (name != "all" && !named.count(name)) unused.insert(name);
+  for (const auto& [name, v] : model.mesh.edge_sets)
+    if (!named.count(name)) unused.insert(name);
+  if (unused.empty()) return;
+  std::string list;
+  for (const auto& n : unused) list += (list.empty() ? "" : ", ") + n;
+  std::ostringstream o;
+  o << at.str() << " [mesh] file = \"" << file << "\": " << unused.size() << " physical group"
+    << (unused.size() == 1 ? "" : "s") << " that the scene never names: " << list
+    << " (harmless if left over; otherwise check the set names)";
+  warnings.push_back(o.str());
+}
+
 void Analysis::Impl::read_mesh(const toml::table& root, const SourceLocation& pile_cells_at) {
   {
     const auto& mt = table_at(root, "mesh", "scene");
@@ -30,9 +68,11 @@ void Analysis::Impl::read_mesh(const toml::table& root, const SourceLocation& pi
     if (const auto* g = mt.get("generator"); g && g->is_string()) generator = g->as_string()->get();
     const bool own_reader = generator == "blocks" || generator == "gmsh";
     const std::string sub = own_reader || generator.empty() ? "" : generator_table(generator);
-    std::vector<std::string_view> extra{"blocks"};
+    const TableKeys keys = mesh_keys();
+    // keys.other: blocks, and the generator's table (whose name depends on the generator)
+    std::vector<std::string_view> extra{keys.other.at(0).name};
     if (!sub.empty()) extra.push_back(sub);
-    const auto mp = check_table(mt, mesh_schema(), "[mesh]", extra);
+    const auto mp = check_table(mt, keys.schema, "[mesh]", extra);
     if (mp.text("generator") == "blocks") {
       const int npc = static_cast<int>(mp.integer("nodes_per_cell"));
       if (npc != 4 && npc != 8)
@@ -117,6 +157,7 @@ void Analysis::Impl::read_mesh(const toml::table& root, const SourceLocation& pi
                                                              : "no such file ('" + f.string() + "')") +
                                           "; give a Gmsh .msh 4.1 ASCII file");
       model.mesh = read_gmsh(f.string());
+      unused_physical_groups(root, mp.where("file"), mp.text("file"));
     }
     model.mesh.check();
     if (!pile_cells.empty() && !model.mesh.cell_sets.count(pile_cells))

@@ -25,9 +25,11 @@ void Analysis::Impl::build(const toml::table& root) {
   register_builtin_factories(registry);
 
   // ---- top level
-  static const std::vector<std::string_view> top_keys{
-      "title", "analysis", "convergence", "solver",  "mesh",         "materials",  "domains", "constraints",
-      "loads", "stages",   "output",      "plugins", "contact_laws", "interfaces", "checks"};
+  // title and the sections (scene/schemas.cpp top_keys; `include` is merged away before this)
+  const TableKeys top = scene::top_keys();
+  std::vector<std::string_view> top_keys = key_names(top.schema);
+  for (const auto& k : top.other)
+    if (k.name != "include") top_keys.emplace_back(k.name);
   for (auto&& [key, value] : root) {
     const std::string k(key.str());
     if (std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end()) {
@@ -47,8 +49,9 @@ void Analysis::Impl::build(const toml::table& root) {
       options.plugin_dirs.empty() ? PluginCatalog::default_directories() : options.plugin_dirs;
   {
     const auto& pt = optional_table(root, "plugins");
+    const TableKeys plugin_keys = plugins_keys(); // path only
     for (auto&& [key, value] : pt) {
-      if (key.str() != "path")
+      if (key.str() != plugin_keys.other.at(0).name)
         throw Error(location(key.source()),
                     "[plugins] unknown key '" + std::string(key.str()) + "'; allowed: path");
       const auto* a = value.as_array();
@@ -95,7 +98,9 @@ void Analysis::Impl::build(const toml::table& root) {
   convergence.energy_atol = cp.real("energy_atol");
   convergence.displacement_test = cp.flag("displacement_test");
   convergence.max_iterations = static_cast<int>(cp.integer("max_iterations"));
-  const auto op = check_table(optional_table(root, "output"), output_schema(), "[output]", {"history"});
+  const TableKeys output = output_keys();
+  const auto op =
+      check_table(optional_table(root, "output"), output.schema, "[output]", output.other_names());
   vtk = op.flag("vtk");
   ip_output = op.flag("integration_points");
   every = static_cast<int>(op.integer("every"));

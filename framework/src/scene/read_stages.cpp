@@ -1,6 +1,7 @@
 // Reading [[stages]] (or the [[loads]] of a scene without stages) and what a stage inherits.
 #include "analysis_impl.hpp"
 #include "scene/plugin_table.hpp"
+#include "scene/schemas.hpp"
 #include "scene/tables.hpp"
 #include "stages/builtin_actions.hpp"
 #include "toml_check.hpp"
@@ -61,14 +62,16 @@ void Analysis::Impl::read_stages(const toml::table& root) {
     st.vtk = vtk;
     st.checkpoint = false;
     // [[loads]]: the loads of a scene without stages, read by the pressure, force and gravity actions.
+    const Schema load_keys = scene::loads_schema();
+    const ParamSpec& load_type_spec = *load_keys.find("type");
     for (std::size_t i = 0; i < legacy_loads.size(); ++i) {
       const auto& t = *legacy_loads[i];
       const std::string type = require_string(t, "type", "[[loads]]");
       const std::string ctx = "[[loads]] type = \"" + type + "\"";
       if (type == "load") throw Error(location(*t.get("type")), ctx + " is only allowed as a stage action");
-      if (type != "pressure" && type != "force" && type != "gravity")
-        throw Error(location(*t.get("type")),
-                    ctx + " is not allowed; allowed: one of: pressure, force, gravity");
+      const auto& load_types = load_type_spec.choices; // pressure, force, gravity
+      if (std::find(load_types.begin(), load_types.end(), type) == load_types.end())
+        throw Error(location(*t.get("type")), ctx + " is not allowed; allowed: " + load_type_spec.allowed());
       st.actions.push_back(
           parse_action(t, "[[loads]]", "load#" + std::to_string(i + 1), load_names, st.reset_after));
     }
@@ -108,6 +111,7 @@ std::unique_ptr<StageAction> Analysis::Impl::parse_action(const toml::table& at,
                                                           const std::string& default_load_name,
                                                           std::set<std::string>& load_names,
                                                           bool& reset_after) {
+  const Schema action_keys = scene::action_schema(); // type (the action's own keys follow its schema)
   const std::string type = require_string(at, "type", actx);
   const std::string ctx = actx + " type = \"" + type + "\"";
   const SourceLocation type_at = location(*at.get("type"));
@@ -123,8 +127,8 @@ std::unique_ptr<StageAction> Analysis::Impl::parse_action(const toml::table& at,
       throw Error(type_at, ctx + " is not allowed; allowed: one of: " + allowed + did_you_mean(type, all));
     }
   }
-  auto action =
-      scene::plugin_from_table<StageAction>(*catalog, registry, type, type_at, ctx, at, ctx, {"type"});
+  auto action = scene::plugin_from_table<StageAction>(*catalog, registry, type, type_at, ctx, at, ctx,
+                                                      scene::key_names(action_keys));
   StageCheck check{model.mesh, ctx, location(at), load_names, default_load_name, false};
   action->check(check);
   reset_after = reset_after || check.reset_after;
@@ -133,39 +137,9 @@ std::unique_ptr<StageAction> Analysis::Impl::parse_action(const toml::table& at,
 
 stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string& ctx,
                                          std::set<std::string>& load_names) {
-  Schema s;
-  s.text("name", {}, "stage name (checkpoints and output are named after it)");
-  s.integer("steps", "-", "equal load increments of the stage").at_least(1).defaults_to(1LL);
-  s.real_list("increments", "-", "load-factor increments summing to 1 (instead of steps)")
-      .defaults_to(std::vector<double>{});
-  s.integer("max_cutbacks", "-", "halvings of a failed step before the stage fails")
-      .at_least(0)
-      .at_most(30)
-      .defaults_to(static_cast<long long>(stepping.max_cutbacks));
-  s.real("error_tolerance", "-",
-         "error-controlled load steps in this stage ([analysis] error_tolerance: the meaning and "
-         "the default); 0: the steps as listed")
-      .at_least(0)
-      .defaults_to(stepping.error_tolerance);
-  s.boolean("until_failure", "a step failing after its cut-backs ends the run normally (loading to failure)")
-      .defaults_to(false);
-  s.real("collapse_stiffness", "-",
-         "with until_failure: the stop counts as a collapse when the least current stiffness of the "
-         "steps over the last tenth of the load reached (Bergan's parameter: dlambda / (F_ref . du) "
-         "under load control) is below this fraction of the stage's first step; otherwise it is a "
-         "numerical failure (exit 4)")
-      .greater_than(0)
-      .at_most(1)
-      .defaults_to(0.1);
-  s.real("stop_settlement", "m", "stop once the mean settlement of `monitor` exceeds this (0: never)")
-      .at_least(0)
-      .defaults_to(0.0);
-  s.text("monitor", {}, "edge or node set whose mean downward displacement is the settlement")
-      .defaults_to(std::string());
-  s.boolean("vtk", "write VTK output during this stage").defaults_to(vtk);
-  s.integer("every", "-", "write every n-th step").at_least(1).defaults_to(static_cast<long long>(every));
-  s.boolean("checkpoint", "write a checkpoint at the end of the stage").defaults_to(true);
-  const auto p = check_table(t, s, ctx, {"actions"});
+  const scene::TableKeys keys =
+      scene::stage_keys(stepping.max_cutbacks, stepping.error_tolerance, vtk, static_cast<long long>(every));
+  const auto p = check_table(t, keys.schema, ctx, keys.other_names());
   stage::Stage st;
   st.name = p.text("name");
   st.where = location(t);

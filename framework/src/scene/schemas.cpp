@@ -9,6 +9,31 @@
 
 namespace stratum::scene {
 
+TableKeys top_keys() {
+  TableKeys k;
+  k.schema.text("title", {}, "a title for the scene (printed nowhere else; for the reader of the file)")
+      .defaults_to(std::string());
+  k.other = {
+      {"include", "string or list of strings",
+       "scene files merged in first, relative to this file (stratum describe include)"},
+      {"analysis", "table", "[analysis]"},
+      {"convergence", "table", "[convergence]"},
+      {"solver", "table", "[solver]"},
+      {"mesh", "table", "[mesh] (required)"},
+      {"materials", "table of tables", "[materials.<name>]"},
+      {"domains", "array of tables", "[[domains]] (at least one)"},
+      {"constraints", "array of tables", "[[constraints]]"},
+      {"loads", "array of tables", "[[loads]] (a scene without stages)"},
+      {"stages", "array of tables", "[[stages]]"},
+      {"output", "table", "[output]"},
+      {"plugins", "table", "[plugins]"},
+      {"contact_laws", "table of tables", "[contact_laws.<name>]"},
+      {"interfaces", "array of tables", "[[interfaces]]"},
+      {"checks", "array of tables", "[[checks]]"},
+  };
+  return k;
+}
+
 Schema analysis_schema() {
   Schema s;
   s.text("formulation", {"axisymmetric", "plane_strain"}, "2D idealisation of the whole scene")
@@ -91,8 +116,21 @@ Schema convergence_schema() {
   return s;
 }
 
-Schema mesh_schema() {
-  Schema s;
+std::vector<std::string_view> TableKeys::other_names() const {
+  std::vector<std::string_view> v;
+  for (const auto& k : other) v.emplace_back(k.name);
+  return v;
+}
+
+std::vector<std::string_view> key_names(const Schema& schema) {
+  std::vector<std::string_view> v;
+  for (const auto& p : schema.specs()) v.emplace_back(p.name);
+  return v;
+}
+
+TableKeys mesh_keys() {
+  TableKeys k;
+  Schema& s = k.schema;
   s.text("generator", {},
          "blocks (structured graded blocks), gmsh (a Gmsh file), or a mesh generator: axisymmetric_pile "
          "(the bored pile, [mesh.pile]) or a plugin's (its parameters in [mesh.<generator>])");
@@ -104,7 +142,11 @@ Schema mesh_schema() {
   s.text("transform", {"none", "polar"},
          "polar maps generated (x, y) to (x cos y, x sin y) with y in degrees: rings and sectors")
       .defaults_to(std::string("none"));
-  return s;
+  k.other.push_back({"blocks", "array of tables", "generator = \"blocks\": the blocks, [[mesh.blocks]]"});
+  k.other.push_back(
+      {"<generator>", "table",
+       "a mesh generator's parameters, [mesh.<generator>] ([mesh.pile] for axisymmetric_pile)"});
+  return k;
 }
 
 Schema block_schema() {
@@ -119,8 +161,9 @@ Schema block_schema() {
   return s;
 }
 
-Schema output_schema() {
-  Schema s;
+TableKeys output_keys() {
+  TableKeys k;
+  Schema& s = k.schema;
   s.boolean("vtk", "write .vtu/.pvd files").defaults_to(true);
   s.boolean("integration_points", "write the integration-point cloud (.vtp)").defaults_to(true);
   s.integer("every", "-", "write every n-th step (the last step is always written)")
@@ -134,6 +177,138 @@ Schema output_schema() {
          "this often during a stage, so that they grow while a long run goes on; 0: after every step")
       .at_least(0)
       .defaults_to(5.0);
+  k.other.push_back({"history", "array of tables", "recorders, [[output.history]]"});
+  return k;
+}
+
+TableKeys plugins_keys() {
+  TableKeys k;
+  k.other.push_back({"path", "list of strings",
+                     "folders searched for plugin libraries before STRATUM_PLUGIN_PATH and the program's "
+                     "own plugin folder, relative to the scene file"});
+  return k;
+}
+
+Schema constraint_schema() {
+  Schema s;
+  s.text("nodes", {}, "node or edge set whose nodes are fixed or moved");
+  s.real("ux", "m", "prescribed x (radial) displacement at load factor 1").defaults_to(0.0);
+  s.real("uy", "m", "prescribed y (vertical) displacement at load factor 1").defaults_to(0.0);
+  return s;
+}
+
+Schema domain_schema() {
+  Schema s;
+  s.text("cells", {}, "cell set of the domain; every cell of the mesh belongs to exactly one domain");
+  s.text("element", {}, "element plugin (stratum plugins: kind element); its parameters go in this table");
+  s.text("material", {}, "name of a [materials.<name>] table");
+  return s;
+}
+
+Schema material_schema() {
+  Schema s;
+  s.text("model", {},
+         "material plugin (stratum plugins: kind material); its parameters go in this table "
+         "(stratum plugins --describe <model>)");
+  return s;
+}
+
+Schema contact_law_schema() {
+  Schema s;
+  s.text("model", {},
+         "contact-law plugin (stratum plugins: kind contact_law); its parameters go in this table "
+         "(stratum plugins --describe <model>)");
+  return s;
+}
+
+Schema interface_schema() {
+  Schema s;
+  s.text("edges", {}, "edge set along which the mesh is split into two sides");
+  s.text("element", {"contact2", "interface_line"},
+         "interface element (node pairs or line cells); its parameters go in this table");
+  s.text("law", {}, "name of a [contact_laws.<name>] table");
+  s.text("name", {}, "name of the interface: its cell set, <name>.side1/.side2 node sets, curves file")
+      .defaults_to(std::string("<edges>"));
+  s.text("cells", {}, "cell set of body 2, whose nodes on the edges are moved to the new side")
+      .defaults_to(std::string());
+  s.boolean("csv", "write the interface's traction and jump as curves/<name>.csv").defaults_to(true);
+  return s;
+}
+
+TableKeys stage_keys(long long max_cutbacks, double error_tolerance, bool vtk, long long every) {
+  TableKeys k;
+  Schema& s = k.schema;
+  s.text("name", {}, "stage name (checkpoints and output are named after it)");
+  s.integer("steps", "-", "equal load increments of the stage").at_least(1).defaults_to(1LL);
+  s.real_list("increments", "-", "load-factor increments summing to 1 (instead of steps)")
+      .defaults_to(std::vector<double>{});
+  s.integer("max_cutbacks", "-", "halvings of a failed step before the stage fails (default: [analysis])")
+      .at_least(0)
+      .at_most(30)
+      .defaults_to(max_cutbacks);
+  s.real("error_tolerance", "-",
+         "error-controlled load steps in this stage ([analysis] error_tolerance: the meaning and "
+         "the default); 0: the steps as listed")
+      .at_least(0)
+      .defaults_to(error_tolerance);
+  s.boolean("until_failure", "a step failing after its cut-backs ends the run normally (loading to failure)")
+      .defaults_to(false);
+  s.real("collapse_stiffness", "-",
+         "with until_failure: the stop counts as a collapse when the least current stiffness of the "
+         "steps over the last tenth of the load reached (Bergan's parameter: dlambda / (F_ref . du) "
+         "under load control) is below this fraction of the stage's first step; otherwise it is a "
+         "numerical failure (exit 4)")
+      .greater_than(0)
+      .at_most(1)
+      .defaults_to(0.1);
+  s.real("stop_settlement", "m", "stop once the mean settlement of `monitor` exceeds this (0: never)")
+      .at_least(0)
+      .defaults_to(0.0);
+  s.text("monitor", {}, "edge or node set whose mean downward displacement is the settlement")
+      .defaults_to(std::string());
+  s.boolean("vtk", "write VTK output during this stage (default: [output] vtk)").defaults_to(vtk);
+  s.integer("every", "-", "write every n-th step (default: [output] every)").at_least(1).defaults_to(every);
+  s.boolean("checkpoint", "write a checkpoint at the end of the stage").defaults_to(true);
+  k.other.push_back({"actions", "array of tables", "what the stage does when it starts, [[stages.actions]]"});
+  return k;
+}
+
+Schema action_schema() {
+  Schema s;
+  s.text("type", {}, "the stage action (stratum describe stages.actions); its keys go in this table");
+  return s;
+}
+
+Schema loads_schema() {
+  Schema s;
+  s.text("type", {"pressure", "force", "gravity"},
+         "the load; its keys are those of the stage action of that type (stratum describe stages.actions)");
+  return s;
+}
+
+TableKeys recorder_keys() {
+  TableKeys k;
+  Schema& s = k.schema;
+  s.text("name", {}, "recorder name: the file history/<name>.csv");
+  s.text("kind", {"node", "nodes", "point", "global", "interface"},
+         "one node at `at`, a node or edge `set` (mean displacement, summed reaction), the "
+         "integration point nearest to `at`, global quantities, or the points of an interface "
+         "(traction and jump along it, one row per point)");
+  s.text("set", {},
+         "nodes: the node or edge set; interface: the [[interfaces]] name (by default its edge set's)")
+      .defaults_to(std::string());
+  s.real_list("at", "m", "node, point: the location [x, y]").defaults_to(std::vector<double>{});
+  k.other.push_back({"quantities", "list of strings", "the columns to record (default: all of the kind's)"});
+  return k;
+}
+
+Schema check_schema() {
+  Schema s;
+  s.text("recorder", {}, "name of an [[output.history]] recorder");
+  s.text("quantity", {}, "one of the recorder's quantities; its value at the last recorded step is checked");
+  s.real("expected", "-", "the expected value (in the quantity's unit), e.g. from a closed form");
+  s.real("rtol", "-", "relative tolerance").at_least(0).defaults_to(0.0);
+  s.real("atol", "-", "absolute tolerance (the quantity's unit)").at_least(0).defaults_to(0.0);
   return s;
 }
 

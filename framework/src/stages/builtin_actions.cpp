@@ -13,6 +13,17 @@ namespace stratum::stage {
 
 namespace {
 
+/// A load on an empty set would act on nothing: a located error at the key naming the set.
+template <class Sets>
+void require_loaded(const StageCheck& scene, const Params& p, const std::string& key, const Sets& sets,
+                    const char* what) {
+  const auto it = sets.find(p.text(key));
+  if (it == sets.end() || !it->second.empty()) return; // a missing set is require_*_set's error
+  throw Error(p.where(key).known() ? p.where(key) : scene.where,
+              scene.context + " " + key + " = \"" + p.text(key) + "\" is an empty " + what +
+                  ": the load would act on nothing; name a set with members");
+}
+
 /// geostatic: the initial (at-rest) stress of soil cells and their self-weight as a load; the
 /// stage's displacements are zeroed at its end.
 class Geostatic final : public StageAction {
@@ -33,6 +44,7 @@ public:
   }
   void check(StageCheck& scene) override {
     scene.require_cell_set(p_, "cells");
+    require_loaded(scene, p_, "cells", scene.mesh.cell_sets, "cell set");
     scene.add_load_name(load_.name);
     scene.reset_after = true;
   }
@@ -218,12 +230,15 @@ public:
     switch (spec_.kind) {
     case LoadSpec::Kind::pressure:
       scene.require_edge_set(p_, "edges");
+      require_loaded(scene, p_, "edges", scene.mesh.edge_sets, "edge set");
       break;
     case LoadSpec::Kind::force:
       scene.require_node_set(p_, "nodes");
+      require_loaded(scene, p_, "nodes", scene.mesh.node_sets, "node set");
       break;
     case LoadSpec::Kind::gravity:
       scene.require_cell_set(p_, "cells");
+      require_loaded(scene, p_, "cells", scene.mesh.cell_sets, "cell set");
       break;
     }
     if (spec_.name.empty()) spec_.name = scene.default_load_name;
@@ -276,6 +291,7 @@ public:
       if (p_.text("cells").empty())
         throw Error(scene.where, scene.context + " settlement needs cells = \"<cell set>\" (the pile head)");
       scene.require_cell_set(p_, "cells");
+      require_loaded(scene, p_, "cells", scene.mesh.cell_sets, "cell set");
       return;
     }
     if (p_.text("edges").empty() == p_.text("cells").empty())
@@ -284,10 +300,13 @@ public:
     if (!p_.where("force").known())
       throw Error(scene.where,
                   scene.context + " needs force = <kN> (or settlement = <m> for a head displacement)");
-    if (spec_.top_of_cells)
+    if (spec_.top_of_cells) {
       scene.require_cell_set(p_, "cells");
-    else
+      require_loaded(scene, p_, "cells", scene.mesh.cell_sets, "cell set");
+    } else {
       scene.require_edge_set(p_, "edges");
+      require_loaded(scene, p_, "edges", scene.mesh.edge_sets, "edge set");
+    }
     scene.add_load_name(spec_.name);
   }
   void apply(StageState& s) const override {
