@@ -3,8 +3,8 @@
 // whole pipeline on Gmsh meshes the patch test (3- and 6-node, mixed with quadrangles; both
 // kinematics) and the Lamé thick cylinder against its closed form (catalogue E1).
 #include "linear_elastic/elastic_math.hpp"
-#include "tri/tri_element.hpp"
 #include "scene_helpers.hpp"
+#include "tri/tri_element.hpp"
 
 #include "stratum/mesh_io.hpp"
 
