@@ -257,6 +257,14 @@ std::string Recorder::csv() const {
   return o.str();
 }
 
+std::string recorder_quantity_unit(const std::string& q) {
+  if (q == "ux" || q == "uy" || q == "x" || q == "y" || q == "s" || q == "slip" || q == "opening") return "m";
+  if (q == "rx" || q == "ry") return "kN";
+  if (q == "sxx" || q == "syy" || q == "szz" || q == "sxy" || q == "shear_traction" || q == "normal_traction")
+    return "kPa";
+  return "-";
+}
+
 Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<Recorder>& recorders) {
   const Params p = io::check_table(t, scene::check_schema(), ctx);
   Check c{p.text("recorder"), p.text("quantity"), p.real("expected"),
@@ -287,6 +295,7 @@ std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,
                                   [&](const Recorder& x) { return x.name() == c.recorder; });
     CheckResult res;
     res.label = c.recorder + "." + c.quantity;
+    res.unit = recorder_quantity_unit(c.quantity);
     res.expected = c.expected;
     res.tolerance = c.atol + c.rtol * std::abs(c.expected);
     // The last step's value; for an interface the point farthest from the expected value, so

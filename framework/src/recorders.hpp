@@ -43,6 +43,10 @@ namespace stratum {
 /// The quantities a recorder of `kind` records (node, nodes, point, global, interface), in order.
 [[nodiscard]] const std::vector<std::string>& recorder_quantities(const std::string& kind);
 
+/// The unit of a recorder quantity in kN, m, kPa ("m", "kN", "kPa" or "-"); Units::label spells it
+/// in a scene's units.
+[[nodiscard]] std::string recorder_quantity_unit(const std::string& quantity);
+
 struct RecorderRow {
   int stage = 0, step = 0;
   double lambda = 0.0;
