@@ -97,7 +97,8 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
       summary.settlement_components.push_back(components->row(m, load, small));
     }
     if (pile)
-      for (const auto& [y, n] : axial_profile(m, *pile)) axial_rows.push_back({load, y, n});
+      for (const auto& [y, n] : axial_profile(m, *pile, 1e6 * units.length_in_m())) // levels: micrometres
+        axial_rows.push_back({load, y, n});
     // Shaft tractions: the interface points on the vertical wall (the largest radius).
     for (const auto& itf : interfaces.interfaces) {
       const auto pts = interface_points(m, m.domains[itf.domain]);
