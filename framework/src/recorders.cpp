@@ -77,7 +77,7 @@ std::vector<InterfacePoint> ordered_along(std::vector<InterfacePoint> pts) {
 
 } // namespace
 
-Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& model) {
+Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& model, const Units& units) {
   const scene::TableKeys keys = scene::recorder_keys();
   const Params p = io::check_table(t, keys.schema, ctx, keys.other_names());
   name_ = p.text("name");
@@ -90,7 +90,7 @@ Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& mo
   const bool needs_at = kind_ == "node" || kind_ == "point";
   if (needs_at && at.size() != 2)
     throw Error(at.empty() ? location(t) : p.where("at"),
-                ctx + " kind = \"" + kind_ + "\" needs at = [x, y] (m)");
+                ctx + " kind = \"" + kind_ + "\" needs at = [x, y] (" + units.length() + ")");
   if (!needs_at && !at.empty())
     throw Error(p.where("at"), ctx + " at acts only for kind = \"node\" or \"point\"");
   if (kind_ == "nodes") {

@@ -32,6 +32,7 @@
 #include "stratum/analysis.hpp"
 #include "stratum/error.hpp"
 #include "stratum/model.hpp"
+#include "stratum/units.hpp"
 
 #include <toml++/toml.h>
 
@@ -56,7 +57,8 @@ struct RecorderRow {
 class Recorder {
 public:
   /// Reads and checks one [[output.history]] table against the mesh.
-  Recorder(const toml::table& t, const std::string& ctx, const Model& model);
+  /// `units`: the scene's, for messages (the recorded values are in them anyway).
+  Recorder(const toml::table& t, const std::string& ctx, const Model& model, const Units& units = {});
 
   [[nodiscard]] const std::string& name() const { return name_; }
   [[nodiscard]] const std::vector<std::string>& quantities() const { return quantities_; }

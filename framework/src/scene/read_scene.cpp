@@ -172,7 +172,7 @@ void Analysis::Impl::build(const toml::table& root) {
   {
     const auto list = table_list(optional_table(root, "output"), "history");
     for (std::size_t i = 0; i < list.size(); ++i) {
-      recorders.emplace_back(*list[i], "[[output.history]] #" + std::to_string(i + 1), model);
+      recorders.emplace_back(*list[i], "[[output.history]] #" + std::to_string(i + 1), model, units);
       for (std::size_t j = 0; j + 1 < recorders.size(); ++j)
         if (recorders[j].name() == recorders.back().name())
           throw Error(location(*list[i]), "[[output.history]] #" + std::to_string(i + 1) + " name = \"" +
