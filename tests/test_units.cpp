@@ -206,6 +206,18 @@ TEST_CASE("units: defaults declared in kN, m, kPa convert into the scene's units
     CHECK(why == "");
   }
   {
+    // "-1: none" flags (a negative default that is its own lower bound) stay flags: Mohr-Coulomb's
+    // tension = -1 is "no cut-off" in any units, and -1 may still be written.
+    catalog.require(reg, stratum::PluginKind::material, "mohr_coulomb");
+    const auto& schema = reg.material("mohr_coulomb").schema;
+    const auto p = stratum::io::check_table(toml::parse("E = 20.0\nc = 0.01\nphi = 30.0\n"), schema,
+                                            "[materials.s]", {}, nmm);
+    CHECK(p.real("tension") == -1.0);
+    const auto q = stratum::io::check_table(toml::parse("E = 20.0\nc = 0.01\nphi = 30.0\ntension = -1.0\n"),
+                                            schema, "[materials.s]", {}, nmm);
+    CHECK(q.real("tension") == -1.0);
+  }
+  {
     // The range bounds convert too: sigma_n_floor-like bounds in kPa read in MPa.
     stratum::Schema s;
     s.real("p", "kPa", "a pressure").at_most(200.0).defaults_to(100.0);

@@ -96,6 +96,7 @@ ParamValue default_in(const ParamSpec& s, const Units& units, const std::string&
                       const toml::table& table) {
   ParamValue v = *s.fallback;
   if (units.is_default() || (s.type != ParamType::real && s.type != ParamType::real_list)) return v;
+  if (is_sentinel_default(s)) return v; // "-1: none" is a flag, not a quantity
   const auto f = units.factor(s.unit);
   if (auto* x = std::get_if<double>(&v)) {
     if (*x == 0.0) return v;
@@ -124,7 +125,7 @@ ParamSpec in_units(const ParamSpec& s, const Units& units) {
   if (units.is_default() || (s.type != ParamType::real && s.type != ParamType::real_list)) return c;
   const auto f = units.factor(s.unit);
   if (!f || *f == 1.0) return c;
-  if (c.lower) *c.lower *= *f;
+  if (c.lower && !is_sentinel_default(s)) *c.lower *= *f;
   if (c.upper) *c.upper *= *f;
   return c;
 }

@@ -161,6 +161,12 @@ std::string Units::label(std::string_view unit) const {
   return out;
 }
 
+bool is_sentinel_default(const ParamSpec& s) {
+  if (s.type != ParamType::real || !s.fallback || !s.lower) return false;
+  const auto* x = std::get_if<double>(&*s.fallback);
+  return x && *x < 0.0 && *x == *s.lower;
+}
+
 ParamSpec spec_in_units(const ParamSpec& spec, const Units& units) {
   ParamSpec c = spec;
   if (units.is_default() || (c.type != ParamType::real && c.type != ParamType::real_list)) return c;
@@ -170,6 +176,10 @@ ParamSpec spec_in_units(const ParamSpec& spec, const Units& units) {
     return c;
   }
   c.unit = units.label(c.unit);
+  if (is_sentinel_default(spec)) {
+    if (c.upper) *c.upper *= *f;
+    return c;
+  }
   if (c.lower) *c.lower *= *f;
   if (c.upper) *c.upper *= *f;
   if (c.fallback) {

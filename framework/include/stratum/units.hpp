@@ -82,6 +82,10 @@ private:
   std::string force_ = "kN", length_ = "m";
 };
 
+/// A "-1: none" default: a negative number that is also the parameter's lower bound (tension = -1,
+/// c_A = -1: "computed"). It is a flag, not a quantity: it and that bound are never converted.
+[[nodiscard]] bool is_sentinel_default(const ParamSpec& spec);
+
 /// A parameter's declaration as a scene in `units` sees it: its unit spelt in them, its default
 /// and range bounds converted (a default that cannot be converted keeps its number, and the unit
 /// then reads "<unit> (kN, m, kPa)"). For `stratum plugins --describe NAME --scene FILE`.
