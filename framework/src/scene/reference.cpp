@@ -249,7 +249,9 @@ std::vector<Section> sections(const Registry* reg) {
     }
     b.notes.push_back(
         "Units: displacements m, reactions kN (sums over the set), stresses kPa (tension positive), "
-        "strains -, s, x, y m; status: the model's own regime number (-1: none).");
+        "strains -, s, x, y m; status: the model's own regime number (-1: none). In a scene with [units]: "
+        "its "
+        "length, force and stress units (the column names stay as they are; checks name them).");
     s.blocks.push_back(std::move(b));
   }
   {
