@@ -502,7 +502,8 @@ TEST_CASE("cli: stratum describe lists the scene's sections and describes each f
   CHECK(stratum("describe solver").out.find("[solver] solver = \"newton\": ") != std::string::npos);
   // Unknown sections: the known ones and a suggestion.
   const auto bad = stratum("describe stagse");
-  expect_one_line_error(bad, "", "describe: unknown section 'stagse'; known: scene, include, analysis");
+  expect_one_line_error(bad, "",
+                        "describe: unknown section 'stagse'; known: scene, include, units, analysis");
   CHECK(bad.err.find("did you mean 'stages'?") != std::string::npos);
   expect_one_line_error(stratum("describe --markdwon"), "", "describe: unknown option '--markdwon'");
 }

@@ -18,20 +18,31 @@ import os
 import sys
 
 
+# A run's curve in a scene with [units] (load_N, settlement_cm, ...) is converted to kN and mm,
+# the units of the field test.
+TO_KN = {"N": 1e-3, "kN": 1.0, "MN": 1e3}
+TO_MM = {"mm": 1.0, "cm": 10.0, "m": 1e3}
+
+
 def read_curve(path):
-    """(loads, settlements) from a CSV with load_kN and settlement_mm columns ('#' lines skipped)."""
+    """(loads in kN, settlements in mm) from a CSV with load_<force> and settlement_<length>
+    columns, as stratum writes them (load_kN, settlement_mm by default; '#' lines skipped)."""
     with open(path, newline="") as f:
         rows = [r for r in f if r.strip() and not r.lstrip().startswith("#")]
     reader = csv.DictReader(rows)
-    if not reader.fieldnames or "load_kN" not in reader.fieldnames:
-        raise ValueError(f"{path}:1: expected a header with load_kN and settlement_mm")
+    names = reader.fieldnames or []
+    lk = next((n for n in names if n.startswith("load_") and n[5:] in TO_KN), None)
+    sk = next((n for n in names if n.startswith("settlement_") and n[11:] in TO_MM), None)
+    if not lk or not sk:
+        raise ValueError(f"{path}:1: expected a header with load_kN and settlement_mm (or other units)")
+    fl, fs = TO_KN[lk[5:]], TO_MM[sk[11:]]
     loads, settl = [], []
     for i, r in enumerate(reader, start=2):
         try:
-            loads.append(float(r["load_kN"]))
-            settl.append(float(r["settlement_mm"]))
+            loads.append(fl * float(r[lk]))
+            settl.append(fs * float(r[sk]))
         except (TypeError, ValueError, KeyError):
-            raise ValueError(f"{path}:{i}: expected numbers in load_kN and settlement_mm")
+            raise ValueError(f"{path}:{i}: expected numbers in {lk} and {sk}")
     return loads, settl
 
 

@@ -82,6 +82,20 @@ def field_values(data):
     return out
 
 
+def prefixed(fv, prefix):
+    """(value, unit) of the field-data value named prefix + unit (head_load_kN, head_load_N, ...)."""
+    for name, v in fv.items():
+        if name.startswith(prefix):
+            return v, name[len(prefix):].replace("_per_", "/")
+    return None, ""
+
+
+def length_unit(fv):
+    """The scene's length unit: the second entry of the `units` field data ("N, mm, MPa"), else m."""
+    u = fv.get("units")
+    return u.split(",")[1].strip() if isinstance(u, str) and u.count(",") == 2 else "m"
+
+
 def pick(ip_pvd, load=None, step=None):
     """(index, file, field data) of the step to draw: nearest head load to `load` (kN) among the
     steps of the last stage that carries one, else step `step` ("last" or an index)."""
@@ -90,7 +104,7 @@ def pick(ip_pvd, load=None, step=None):
         best = None
         for k, (_, f) in enumerate(sets):
             fv = field_values(read(f))
-            h = fv.get("head_load_kN", float("nan"))
+            h = prefixed(fv, "head_load_")[0]
             if isinstance(h, float) and math.isfinite(h):
                 key = (abs(h - load), -k)
                 if best is None or key < best[0]:
@@ -317,19 +331,20 @@ def render(a):
     ax.set_ylim(*ylim)
     ax.set_aspect("equal", adjustable="box")
     pile_scene = box is not None
-    ax.set_xlabel(a.xlabel or ("r: distance from the pile axis (m)" if pile_scene else "x (m)"))
-    ax.set_ylabel(a.ylabel or ("z: elevation, ground at 0 (m)" if pile_scene else "y (m)"))
+    lu = length_unit(fv)
+    ax.set_xlabel(a.xlabel or (f"r: distance from the pile axis ({lu})" if pile_scene else f"x ({lu})"))
+    ax.set_ylabel(a.ylabel or (f"z: elevation, ground at 0 ({lu})" if pile_scene else f"y ({lu})"))
     ax.grid(True, color="#dddddd", linewidth=0.5, zorder=0)
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False,
               title="regime (integration points in view)", title_fontsize=8, alignment="left")
     stem = os.path.basename(ip_pvd)[: -len("_ip.pvd")]
     parts = [f"stage '{fv.get('stage', '?')}'", f"step {int(fv.get('step', k))}",
              f"load factor {fv.get('load_factor', float('nan')):.3g}"]
-    hl, hs = fv.get("head_load_kN"), fv.get("head_settlement_mm")
+    (hl, hlu), (hs, hsu) = prefixed(fv, "head_load_"), prefixed(fv, "head_settlement_")
     if isinstance(hl, float) and math.isfinite(hl):
-        parts.append(f"head load {hl:.1f} kN")
+        parts.append(f"head load {hl:.1f} {hlu}")
     if isinstance(hs, float) and math.isfinite(hs):
-        parts.append(f"settlement {hs:.2f} mm")
+        parts.append(f"settlement {hs:.2f} {hsu}")
     fig.text(0.1 / W, 1 - 0.3 / H, a.title or f"{stem}: plastic zone", fontsize=11, fontweight="bold", ha="left",
              va="center")
     fig.text(0.1 / W, 1 - 0.6 / H, ", ".join(parts), fontsize=9, ha="left", va="center")

@@ -2,7 +2,8 @@
 """PNG plots of a pile run's curves: plot_pile.py OUT/curves
 
 Reads load_settlement.csv (load_kN, settlement_mm), axial_force.csv (load_kN, depth_m,
-axial_force_kN) and, if present, shaft_traction.csv; writes the PNGs beside them."""
+axial_force_kN) and, if present, shaft_traction.csv; writes the PNGs beside them. The units come
+from the headers (a scene with [units] force = "N", length = "mm" writes load_N, depth_mm, ...)."""
 import csv
 import os
 import sys
@@ -25,31 +26,49 @@ def read(path):
         return [{k: number(v) for k, v in row.items()} for row in csv.DictReader(f)]
 
 
+def column(rows, name):
+    """(key, unit) of the column `name`_<unit> (the unit as stratum writes it: kN, mm, kN_per_cm2)."""
+    for key in (rows[0].keys() if rows else []):
+        if key.startswith(name + "_"):
+            return key, key[len(name) + 1:].replace("_per_", "/")
+    sys.exit(f"no column {name}_<unit> in {list(rows[0].keys()) if rows else 'an empty file'}")
+
+
+# The field test's load increments (15 kN) in each force unit.
+STEP = {"N": 15e3, "kN": 15.0, "MN": 15e-3}
+
+
 def main(folder):
     rows = read(os.path.join(folder, "load_settlement.csv"))
+    lk, lu = column(rows, "load")
+    sk, su = column(rows, "settlement")
     fig, ax = plt.subplots(figsize=(5, 4))
-    ax.plot([r["load_kN"] for r in rows], [r["settlement_mm"] for r in rows], "o-")
-    ax.set_xlabel("head load (kN)")
-    ax.set_ylabel("head settlement (mm)")
+    ax.plot([r[lk] for r in rows], [r[sk] for r in rows], "o-")
+    ax.set_xlabel(f"head load ({lu})")
+    ax.set_ylabel(f"head settlement ({su})")
     ax.invert_yaxis()
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
     fig.savefig(os.path.join(folder, "load_settlement.png"), dpi=120)
-    for name, key, label in (("axial_force", "axial_force_kN", "axial force (kN)"),
-                             ("shaft_traction", "shear_traction_kPa", "shaft shear traction (kPa)")):
+    for name, quantity, label in (("axial_force", "axial_force", "axial force"),
+                                  ("shaft_traction", "shear_traction", "shaft shear traction")):
         path = os.path.join(folder, name + ".csv")
         if not os.path.exists(path):
             continue
         data = read(path)
+        key, unit = column(data, quantity)
+        lk, lu = column(data, "load")
+        dk, du = column(data, "depth")
         fig, ax = plt.subplots(figsize=(5, 4))
-        loads = sorted({r["load_kN"] for r in data})
+        loads = sorted({r[lk] for r in data})
         # the field's 15 kN increments and the last level: a line per converged step would bury them
-        shown = [p for p in loads if p > 0 and abs(p / 15.0 - round(p / 15.0)) < 1e-6] + loads[-1:]
+        step = STEP.get(lu, 15.0)
+        shown = [p for p in loads if p > 0 and abs(p / step - round(p / step)) < 1e-6] + loads[-1:]
         for load in sorted(set(shown)) if len(set(shown)) >= 2 else loads:
-            pts = [r for r in data if r["load_kN"] == load]
-            ax.plot([r[key] for r in pts], [r["depth_m"] for r in pts], label=f"{load:g} kN")
-        ax.set_xlabel(label)
-        ax.set_ylabel("depth (m)")
+            pts = [r for r in data if r[lk] == load]
+            ax.plot([r[key] for r in pts], [r[dk] for r in pts], label=f"{load:g} {lu}")
+        ax.set_xlabel(f"{label} ({unit})")
+        ax.set_ylabel(f"depth ({du})")
         ax.invert_yaxis()
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=6)

@@ -2,7 +2,7 @@
 """Triaxial plots from point-driver CSVs: q vs eps_axial and eps_vol vs eps_axial.
 
 Reads any number of CSV files written by `stratum point FILE --out CSV` (columns eps_axial,
-eps_vol, q_kPa: compression positive) and writes two PNGs:
+eps_vol, q_kPa: compression positive; q_MPa etc. from a point file with [units]) and writes two PNGs:
     <out>_q.png     deviator q (kPa) against axial strain (%)
     <out>_ev.png    volumetric strain (%) against axial strain (%)
 
@@ -21,13 +21,15 @@ import sys
 def read_curve(path):
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
-    for col in ("eps_axial", "eps_vol", "q_kPa"):
+    # q_<stress unit>: q_kPa, or q_MPa from a point file with [units] force = "N", length = "mm"
+    qcol = next((k for k in (rows[0].keys() if rows else []) if k.startswith("q_")), "q_kPa")
+    for col in ("eps_axial", "eps_vol", qcol):
         if rows and col not in rows[0]:
             sys.exit(f"{path}: no column '{col}' (is this a `stratum point` CSV?)")
     ea = [100.0 * float(r["eps_axial"]) for r in rows]
     ev = [100.0 * float(r["eps_vol"]) for r in rows]
-    q = [float(r["q_kPa"]) for r in rows]
-    return ea, ev, q
+    q = [float(r[qcol]) for r in rows]
+    return ea, ev, q, qcol[2:].replace("_per_", "/")
 
 
 def pairs(items, what):
@@ -52,7 +54,8 @@ def main():
     curves = [(p, l, read_curve(p)) for p, l in pairs(args.curves, "curves")]
     refs = [(p, l, read_curve(p)) for p, l in pairs(args.reference, "--reference")]
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    for key, ylabel, idx in (("q", "deviator q = sigma_1 - sigma_3 (kPa)", 2),
+    unit = curves[0][2][3] if curves else "kPa"
+    for key, ylabel, idx in (("q", f"deviator q = sigma_1 - sigma_3 ({unit})", 2),
                              ("ev", "volumetric strain eps_vol (%), compression +", 1)):
         fig, ax = plt.subplots(figsize=(6.4, 4.6))
         for i, (_, label, c) in enumerate(curves):

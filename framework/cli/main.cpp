@@ -114,7 +114,9 @@ constexpr const char* point_help =
     "usage: stratum point POINT.toml [--out FILE.csv]\n"
     "\n"
     "Drives one material point along the stress or strain paths of the point file (a triaxial or\n"
-    "oedometer test without a mesh) and writes one CSV row per step.\n"
+    "oedometer test without a mesh) and writes one CSV row per step. Stresses are in kPa unless\n"
+    "the point file declares [units] as a scene does (force = \"N\", length = \"mm\": MPa, and the\n"
+    "columns read p_MPa, q_MPa).\n"
     "\n"
     "options:\n"
     "  --out FILE.csv   the table (default out/<point file name>.csv); written to a temporary\n"
@@ -137,7 +139,9 @@ constexpr const char* plugins_help =
     "The framework's own stage actions and mesh generators are listed with them (library \"(built in)\").\n"
     "\n"
     "options:\n"
-    "  -h, --help   this text\n"
+    "  --scene FILE  with --describe: units, defaults and bounds in that scene's [units]\n"
+    "                (p_a = 100 kPa reads 0.1 MPa in an N, mm scene; stratum describe units)\n"
+    "  -h, --help    this text\n"
     "\n"
     "exit status: 0 listed, 1 unknown plugin name or a plugin library that cannot be opened,\n"
     "  3 internal error\n";
@@ -177,15 +181,26 @@ constexpr const char* commands[] = {"run",     "check",    "point", "fit",      
 constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material,     PluginKind::contact_law,
                                 PluginKind::solver,  PluginKind::stage_action, PluginKind::mesh_generator};
 
-void describe(const Registry& reg, PluginKind kind, const std::string& name, bool full) {
+void describe(const Registry& reg, PluginKind kind, const std::string& name, bool full,
+              const Units& units = {}) {
   std::string summary, library;
   const Schema& s = reg.schema(kind, name, &summary, &library);
   std::cout << to_string(kind) << " " << name << ": " << summary << "\n";
   if (full) std::cout << "  library: " << library << "\n";
-  write_schema(std::cout, s);
+  if (!units.is_default())
+    std::cout << "  (in [units] " << units.describe()
+              << ": units, defaults and bounds as the scene reads them)\n";
+  write_schema(std::cout, s, units);
 }
 
-int plugins(const std::vector<std::string>& args) {
+int plugins(std::vector<std::string> args) {
+  // --scene FILE: units, defaults and bounds in that scene's [units] (stratum/units.hpp).
+  Units units;
+  if (const auto at = std::find(args.begin(), args.end(), "--scene"); at != args.end()) {
+    if (at + 1 == args.end()) throw Error("plugins: --scene needs a scene file (see stratum plugins --help)");
+    units = scene_units(*(at + 1));
+    args.erase(at, at + 2);
+  }
   const bool all = args.size() == 1 && (args[0] == "--describe" || args[0] == "--all");
   const bool one = args.size() == 2 && args[0] == "--describe";
   if (args.size() == 1 && args[0] == "--paths") {
@@ -203,7 +218,7 @@ int plugins(const std::vector<std::string>& args) {
   if (one) {
     for (PluginKind k : kinds)
       if (reg.has(k, args[1])) {
-        describe(reg, k, args[1], true);
+        describe(reg, k, args[1], true, units);
         return 0;
       }
     std::string known;
@@ -217,7 +232,7 @@ int plugins(const std::vector<std::string>& args) {
   }
   if (all) {
     for (PluginKind k : kinds)
-      for (const auto& n : reg.names(k)) describe(reg, k, n, false);
+      for (const auto& n : reg.names(k)) describe(reg, k, n, false, units);
     return 0;
   }
   // The short list: one line per plugin; the summary is the first line of the plugin's own.
@@ -438,7 +453,8 @@ int run(const std::vector<std::string>& args, bool check_only) {
     const auto& m = analysis->model();
     std::cout << scene << ": ok (" << m.mesh.nodes.size() << " nodes, " << m.mesh.cells.size() << " cells, "
               << m.dofs.free_count << " unknowns, " << analysis->opened_libraries().size()
-              << " plugin libraries)\n";
+              << " plugin libraries"
+              << (analysis->units().is_default() ? "" : ", units " + analysis->units().describe()) << ")\n";
     return 0;
   }
   catch_stop_signals();
@@ -488,7 +504,8 @@ int run(const std::vector<std::string>& args, bool check_only) {
     std::cout << "stopped: the settlement limit of the stage is exceeded\n";
 
   if (!s.load_settlement.empty()) {
-    std::cout << "\n  load (kN)   settlement (mm)\n";
+    const Units& u = analysis->units();
+    std::cout << "\n  load (" << u.force() << ")   settlement (" << u.small_length() << ")\n";
     for (const auto& r : s.load_settlement)
       std::cout << "  " << std::setw(9) << std::fixed << std::setprecision(1) << r[0] << "   "
                 << std::setw(15) << std::setprecision(3) << r[1] << "\n";
@@ -511,7 +528,10 @@ int run(const std::vector<std::string>& args, bool check_only) {
   std::string failed;
   for (const auto& c : s.checks) {
     if (!c.pass) failed += (failed.empty() ? "" : ", ") + c.label;
-    std::cout << "check " << c.label << " = " << std::setprecision(10) << c.value << ", expected "
+    // In other units than kN, m the line names the quantity's unit (stratum/units.hpp).
+    const Units& u = analysis->units();
+    const std::string unit = u.is_default() ? "" : " [" + u.label(c.unit) + "]";
+    std::cout << "check " << c.label << unit << " = " << std::setprecision(10) << c.value << ", expected "
               << c.expected << " +- " << std::setprecision(3) << c.tolerance << ": "
               << (c.pass ? "pass" : "FAIL") << "\n"
               << std::defaultfloat;

@@ -37,6 +37,7 @@ struct Analysis::Impl {
   const Factory<Solver>* solver_factory = nullptr;
   Params solver_params;
   Model model;
+  Units units; ///< [units]: the scene's force and length (stratum/units.hpp)
   std::string linear_solver = "auto";
   bool reuse_linear_stiffness = true;
   bool reuse_symbolic = true;

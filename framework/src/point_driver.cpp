@@ -1,6 +1,7 @@
 #include "stratum/point_driver.hpp"
 
 #include "scene/plugin_table.hpp"
+#include "scene/tables.hpp"
 #include "stratum/files.hpp"
 #include "stratum/registry.hpp"
 #include "toml_check.hpp"
@@ -107,6 +108,7 @@ struct PointDriver::Impl {
   std::unique_ptr<Material> material;
   Vec6 initial = Vec6::Zero();
   std::vector<PointPath> paths;
+  Units units;
 };
 
 PointDriver::PointDriver(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -126,12 +128,14 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
                                                       std::vector<std::string> dirs) {
   toml::table root = io::parse_with_includes(text, path);
   for (auto&& [key, value] : root)
-    if (key.str() != "title" && key.str() != "material" && key.str() != "initial" && key.str() != "paths")
+    if (key.str() != "title" && key.str() != "units" && key.str() != "material" && key.str() != "initial" &&
+        key.str() != "paths")
       throw Error(location(key.source()),
                   "unknown key '" + std::string(key.str()) +
-                      "' at the top level; allowed: title, material, initial, paths" +
-                      did_you_mean(key.str(), {"title", "material", "initial", "paths"}));
+                      "' at the top level; allowed: title, units, material, initial, paths" +
+                      did_you_mean(key.str(), {"title", "units", "material", "initial", "paths"}));
   auto impl = std::make_unique<Impl>();
+  impl->units = scene::read_units(root); // stresses in force/length^2, the labels follow
   impl->catalog = std::make_unique<PluginCatalog>(dirs.empty() ? PluginCatalog::default_directories() : dirs);
 
   const auto* mt = root.get("material") ? root.get("material")->as_table() : nullptr;
@@ -139,7 +143,7 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
   const std::string model = io::require_string(*mt, "model", "[material]");
   impl->material = scene::plugin_from_table<Material>(
       *impl->catalog, impl->registry, model, location(*mt->get("model")),
-      "[material] model = \"" + model + "\"", *mt, "[material]", {"model"});
+      "[material] model = \"" + model + "\"", *mt, "[material]", {"model"}, impl->units);
 
   Schema init;
   init.real_list("stress", "kPa", "initial stress xx, yy, zz, xy, yz, zx (tension positive)")
@@ -149,7 +153,7 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
   const toml::table empty;
   const auto* it = root.get("initial") ? root.get("initial")->as_table() : &empty;
   if (!it) throw Error(location(*root.get("initial")), "[initial] must be a table");
-  const auto ip = check_table(*it, init, "[initial]");
+  const auto ip = check_table(*it, init, "[initial]", {}, impl->units);
   if (it->get("stress") && it->get("p"))
     throw Error(location(*it), "[initial] give either stress or p, not both");
   const auto& s = ip.real_list("stress");
@@ -175,7 +179,8 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
     }
     const auto p = check_table(*t, path_schema(type), ctx,
                                type == "mixed" ? std::vector<std::string_view>{"control"}
-                                               : std::vector<std::string_view>{});
+                                               : std::vector<std::string_view>{},
+                               impl->units);
     impl->paths.push_back(make_path(type, p, *t, ctx));
   }
   return std::unique_ptr<PointDriver>(new PointDriver(std::move(impl)));
@@ -184,6 +189,7 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
 PointRun PointDriver::run() const {
   const Material& m = *impl_->material;
   PointRun out;
+  out.units = impl_->units;
   Vec6 stress = impl_->initial, strain = Vec6::Zero();
   std::vector<double> hist(static_cast<std::size_t>(m.history_size())), trial(hist.size());
   m.init_history(stress, hist);
@@ -252,7 +258,7 @@ PointRun PointDriver::run() const {
       if (o.ok() && !converged)
         o = Outcome::failure(Status::not_converged,
                              "mixed control did not converge in 50 iterations (|r| = " + std::to_string(rn) +
-                                 " kPa)");
+                                 " " + impl_->units.stress() + ")");
       if (!o.ok()) {
         out.outcome = Outcome::failure(o.status, "path " + std::to_string(seg + 1) + " (" + path.name +
                                                      "), step " + std::to_string(j) + ": " + o.message);
@@ -273,7 +279,8 @@ void PointDriver::write_csv(const PointRun& run, const std::string& path) {
   {
     o << "step,path,eps_xx,eps_yy,eps_zz,gamma_xy,gamma_yz,gamma_zx,sig_xx,sig_yy,sig_zz,sig_xy,sig_yz,sig_"
          "zx,"
-         "eps_axial,eps_vol,p_kPa,q_kPa\n";
+         "eps_axial,eps_vol,"
+      << run.units.column("p", "kPa") << ',' << run.units.column("q", "kPa") << '\n';
     o.precision(12);
     for (const auto& r : run.rows) {
       o << r.step << ',' << r.segment;

@@ -77,7 +77,7 @@ std::vector<InterfacePoint> ordered_along(std::vector<InterfacePoint> pts) {
 
 } // namespace
 
-Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& model) {
+Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& model, const Units& units) {
   const scene::TableKeys keys = scene::recorder_keys();
   const Params p = io::check_table(t, keys.schema, ctx, keys.other_names());
   name_ = p.text("name");
@@ -90,7 +90,7 @@ Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& mo
   const bool needs_at = kind_ == "node" || kind_ == "point";
   if (needs_at && at.size() != 2)
     throw Error(at.empty() ? location(t) : p.where("at"),
-                ctx + " kind = \"" + kind_ + "\" needs at = [x, y] (m)");
+                ctx + " kind = \"" + kind_ + "\" needs at = [x, y] (" + units.length() + ")");
   if (!needs_at && !at.empty())
     throw Error(p.where("at"), ctx + " at acts only for kind = \"node\" or \"point\"");
   if (kind_ == "nodes") {
@@ -257,6 +257,14 @@ std::string Recorder::csv() const {
   return o.str();
 }
 
+std::string recorder_quantity_unit(const std::string& q) {
+  if (q == "ux" || q == "uy" || q == "x" || q == "y" || q == "s" || q == "slip" || q == "opening") return "m";
+  if (q == "rx" || q == "ry") return "kN";
+  if (q == "sxx" || q == "syy" || q == "szz" || q == "sxy" || q == "shear_traction" || q == "normal_traction")
+    return "kPa";
+  return "-";
+}
+
 Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<Recorder>& recorders) {
   const Params p = io::check_table(t, scene::check_schema(), ctx);
   Check c{p.text("recorder"), p.text("quantity"), p.real("expected"),
@@ -287,6 +295,7 @@ std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,
                                   [&](const Recorder& x) { return x.name() == c.recorder; });
     CheckResult res;
     res.label = c.recorder + "." + c.quantity;
+    res.unit = recorder_quantity_unit(c.quantity);
     res.expected = c.expected;
     res.tolerance = c.atol + c.rtol * std::abs(c.expected);
     // The last step's value; for an interface the point farthest from the expected value, so

@@ -32,6 +32,7 @@
 #include "stratum/analysis.hpp"
 #include "stratum/error.hpp"
 #include "stratum/model.hpp"
+#include "stratum/units.hpp"
 
 #include <toml++/toml.h>
 
@@ -43,6 +44,10 @@ namespace stratum {
 /// The quantities a recorder of `kind` records (node, nodes, point, global, interface), in order.
 [[nodiscard]] const std::vector<std::string>& recorder_quantities(const std::string& kind);
 
+/// The unit of a recorder quantity in kN, m, kPa ("m", "kN", "kPa" or "-"); Units::label spells it
+/// in a scene's units.
+[[nodiscard]] std::string recorder_quantity_unit(const std::string& quantity);
+
 struct RecorderRow {
   int stage = 0, step = 0;
   double lambda = 0.0;
@@ -52,7 +57,8 @@ struct RecorderRow {
 class Recorder {
 public:
   /// Reads and checks one [[output.history]] table against the mesh.
-  Recorder(const toml::table& t, const std::string& ctx, const Model& model);
+  /// `units`: the scene's, for messages (the recorded values are in them anyway).
+  Recorder(const toml::table& t, const std::string& ctx, const Model& model, const Units& units = {});
 
   [[nodiscard]] const std::string& name() const { return name_; }
   [[nodiscard]] const std::vector<std::string>& quantities() const { return quantities_; }

@@ -76,6 +76,12 @@ std::string expected(const ParamSpec& s) {
   return "?";
 }
 
+std::string show_number(double x) {
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, static_cast<std::size_t>(r.ptr - buf));
+}
+
 [[noreturn]] void wrong_type(const toml::node& v, const std::string& ctx, const ParamSpec& s) {
   throw Error(location(v), ctx + " " + s.name + " = " + show(v) + " has the wrong type: expected " +
                                expected(s) + ", got " + type_name(v));
@@ -83,8 +89,51 @@ std::string expected(const ParamSpec& s) {
 
 } // namespace
 
+namespace {
+
+/// A default declared in kN, m, kPa, in the scene's units (unchanged when they are the default).
+ParamValue default_in(const ParamSpec& s, const Units& units, const std::string& context,
+                      const toml::table& table) {
+  ParamValue v = *s.fallback;
+  if (units.is_default() || (s.type != ParamType::real && s.type != ParamType::real_list)) return v;
+  if (is_sentinel_default(s)) return v; // "-1: none" is a flag, not a quantity
+  const auto f = units.factor(s.unit);
+  if (auto* x = std::get_if<double>(&v)) {
+    if (*x == 0.0) return v;
+    if (!f)
+      throw Error(location(table), context + " " + s.name + " is not given, and its default " +
+                                       show_number(*x) + " (" + s.unit +
+                                       ", in kN, m, kPa) cannot be converted to [units] " + units.describe() +
+                                       "; allowed: give " + s.name + " in the table");
+    *x *= *f;
+  } else if (auto* xs = std::get_if<std::vector<double>>(&v)) {
+    bool zero = true;
+    for (double e : *xs) zero = zero && e == 0.0;
+    if (zero) return v;
+    if (!f)
+      throw Error(location(table), context + " " + s.name + " is not given, and its default (" + s.unit +
+                                       ", in kN, m, kPa) cannot be converted to [units] " + units.describe() +
+                                       "; allowed: give " + s.name + " in the table");
+    for (double& e : *xs) e *= *f;
+  }
+  return v;
+}
+
+/// The spec with its range bounds in the scene's units (they are declared in kN, m, kPa).
+ParamSpec in_units(const ParamSpec& s, const Units& units) {
+  ParamSpec c = s;
+  if (units.is_default() || (s.type != ParamType::real && s.type != ParamType::real_list)) return c;
+  const auto f = units.factor(s.unit);
+  if (!f || *f == 1.0) return c;
+  if (c.lower && !is_sentinel_default(s)) *c.lower *= *f;
+  if (c.upper) *c.upper *= *f;
+  return c;
+}
+
+} // namespace
+
 Params check_table(const toml::table& table, const Schema& schema, const std::string& context,
-                   const std::vector<std::string_view>& extra) {
+                   const std::vector<std::string_view>& extra, const Units& units) {
   for (auto&& [key, value] : table) {
     const std::string k(key.str());
     bool ok = schema.find(k) != nullptr;
@@ -104,13 +153,16 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
   }
   Params p;
   p.context = context;
-  for (const auto& s : schema.specs()) {
+  if (!units.is_default()) p.set(units_param, units.force() + " " + units.length(), units.declared_at);
+  for (const auto& declared : schema.specs()) {
+    const ParamSpec s = in_units(declared, units);
     const toml::node* v = table.get(s.name);
     if (!v) {
       if (s.required())
         throw Error(location(table), context + " missing required parameter '" + s.name + "' (" + s.meaning +
-                                         (s.unit.empty() || s.unit == "-" ? "" : ", " + s.unit) + ")");
-      p.set(s.name, *s.fallback);
+                                         (s.unit.empty() || s.unit == "-" ? "" : ", " + units.label(s.unit)) +
+                                         ")");
+      p.set(s.name, default_in(s, units, context, table));
       continue;
     }
     const auto where = location(*v);

@@ -4,6 +4,7 @@
 
 #include "stratum/params.hpp"
 #include "stratum/suggest.hpp"
+#include "stratum/units.hpp"
 
 #include <toml++/toml.h>
 
@@ -34,8 +35,12 @@ namespace stratum::io {
 /// Validates `table` against `schema`: unknown keys (other than `extra`), missing required
 /// parameters, wrong types, values out of range or not among the choices. `context` is the
 /// table's name as the user wrote it, e.g. "[materials.soil]". Throws Error on the first problem.
+/// In a scene whose `units` are not kN, m, kPa, the defaults and the range bounds of dimensional
+/// parameters are converted into them (their unit strings say how, stratum/units.hpp); a
+/// default whose unit string cannot be read is refused unless it is zero; and the Params carry
+/// the units (units_param) for plugins that must refuse them.
 [[nodiscard]] Params check_table(const toml::table& table, const Schema& schema, const std::string& context,
-                                 const std::vector<std::string_view>& extra = {});
+                                 const std::vector<std::string_view>& extra = {}, const Units& units = {});
 
 /// A required string key (for keys outside any schema, like `model = "..."`).
 [[nodiscard]] std::string require_string(const toml::table& table, std::string_view key,

@@ -4,6 +4,7 @@
 #include "umat_material.hpp"
 
 #include "stratum/plugin.hpp"
+#include "stratum/units.hpp"
 
 #include <filesystem>
 #include <memory>
@@ -44,6 +45,12 @@ std::string material_name(const std::string& context) {
 
 std::unique_ptr<stratum::Material> create(const Params& p) {
   const std::string ctx = p.context.empty() ? std::string() : p.context + " ";
+  // Compiled code whose constants stratum cannot see (an atmospheric pressure, a tolerance in
+  // kPa): in other [units] than kN, m, kPa only when the user vouches for it (stratum/units.hpp).
+  if (!p.flag("any_units"))
+    stratum::require_default_units(
+        p, "a UMAT is compiled code whose constants stratum cannot convert (set "
+           "any_units = true when every dimensional constant of it comes from props)");
   um::Settings s;
   s.name = material_name(p.context);
   s.props = p.real_list("props");
@@ -140,6 +147,10 @@ STRATUM_PLUGIN(registry) {
   s.boolean("symmetric_tangent", "true: the UMAT's DDSDDE is symmetric (Cholesky); false: LU")
       .defaults_to(false);
   s.boolean("thread_safe", "true: the UMAT may run on several threads at once; false: one call at a time")
+      .defaults_to(false);
+  s.boolean("any_units",
+            "true: the UMAT computes in any consistent units (its dimensional constants all come from "
+            "props); false: a scene whose [units] are not kN, m, kPa is refused")
       .defaults_to(false);
   f.create = create;
   registry.add(std::move(f));

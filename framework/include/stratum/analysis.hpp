@@ -10,6 +10,7 @@
 #include "stratum/registry.hpp"
 #include "stratum/solver.hpp"
 #include "stratum/step_control.hpp"
+#include "stratum/units.hpp"
 
 #include <array>
 #include <functional>
@@ -51,6 +52,7 @@ struct RunTimes {
 /// One [[checks]] entry after the run (framework/src/recorders.hpp).
 struct CheckResult {
   std::string label; ///< recorder.quantity
+  std::string unit;  ///< the quantity's unit as kN, m, kPa spell it ("m", "kPa", "-"; Units::label)
   double value = 0.0, expected = 0.0, tolerance = 0.0;
   bool pass = false;
 };
@@ -74,8 +76,9 @@ struct RunSummary {
   double stiffness_ratio = 1.0;
   std::vector<std::string> checkpoints; ///< written, in order
   std::vector<CheckResult> checks;      ///< the scene's [[checks]] on the last recorded values
-  /// Head load (kN) and settlement (mm) per converged level of the loaded stage(s) with a `load`
-  /// action (starting at 0, 0), when [output] pile_head names the head edges.
+  /// Head load (kN) and settlement (mm; in other [units]: force, Units::small_length) per converged level of
+  /// the loaded stage(s) with a `load` action (starting at 0, 0), when [output] pile_head names the head
+  /// edges.
   std::vector<std::array<double, 2>> load_settlement;
   /// With [output] pile_cells as well: per recorded level, load_kN, head_mm, pile_shortening_mm,
   /// base_mm, shaft_slip_mean_mm, shaft_slip_top_mm, shaft_load_kN, base_load_kN, each a change
@@ -110,6 +113,9 @@ public:
   /// prints them): cells that no [[domains]] entry covers, sets the user named in a Gmsh file
   /// that the scene never names.
   [[nodiscard]] std::vector<std::string> warnings() const;
+  /// The scene's [units] (kN, m when it declares none): every value the scene writes and every
+  /// result is in them (stratum/units.hpp).
+  [[nodiscard]] const Units& units() const;
 
   struct Impl;
 

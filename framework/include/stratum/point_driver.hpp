@@ -11,6 +11,7 @@
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
 #include "stratum/plugin_loader.hpp"
+#include "stratum/units.hpp"
 
 #include <array>
 #include <memory>
@@ -37,6 +38,7 @@ struct PointRow {
 struct PointRun {
   Outcome outcome;
   std::vector<PointRow> rows; ///< row 0 is the initial state
+  Units units;                ///< the point file's [units]: the CSV labels stresses in them
 };
 
 class PointDriver {

@@ -6,6 +6,7 @@
 
 #include "stratum/params.hpp"
 #include "stratum/registry.hpp"
+#include "stratum/units.hpp"
 
 #include <iosfwd>
 #include <string>
@@ -17,8 +18,10 @@ namespace stratum {
 [[nodiscard]] std::string default_text(const ParamSpec& p);
 
 /// The keys of a schema, two lines each: name, type, unit, allowed values, default (or
-/// "required"), then the meaning (the layout of `stratum plugins --describe`).
+/// "required"), then the meaning (the layout of `stratum plugins --describe`). With `units`
+/// other than kN, m: units, defaults and bounds as a scene in those units sees them.
 void write_schema(std::ostream& out, const Schema& schema);
+void write_schema(std::ostream& out, const Schema& schema, const Units& units);
 
 /// The sections of a scene in order: the name `stratum describe` takes (e.g. "stages.actions"),
 /// the header as written in a scene (e.g. "[[stages.actions]]") and what it is, in one line.

@@ -165,16 +165,22 @@ PileComponents::Raw PileComponents::measure(Model& m) const {
   return r;
 }
 
-std::array<double, 8> PileComponents::row(Model& model, double load_kN) {
+std::string PileComponents::header(const Units& u) {
+  const std::string s = "_" + u.small_length();
+  return u.column("load", "kN") + ",head" + s + ",pile_shortening" + s + ",base" + s + ",shaft_slip_mean" +
+         s + ",shaft_slip_top" + s + "," + u.column("shaft_load", "kN") + "," + u.column("base_load", "kN");
+}
+
+std::array<double, 8> PileComponents::row(Model& model, double load_kN, double small) {
   const Raw now = measure(model);
   if (!have_reference_) reference_ = now, have_reference_ = true;
   const Raw& z = reference_;
   return {load_kN,
-          1e3 * (now.head - z.head),
-          1e3 * (now.shortening - z.shortening),
-          1e3 * (now.base - z.base),
-          1e3 * (now.slip_mean - z.slip_mean),
-          1e3 * (now.slip_top - z.slip_top),
+          small * (now.head - z.head),
+          small * (now.shortening - z.shortening),
+          small * (now.base - z.base),
+          small * (now.slip_mean - z.slip_mean),
+          small * (now.slip_top - z.slip_top),
           now.shaft - z.shaft,
           now.base_load - z.base_load};
 }

@@ -20,6 +20,7 @@
 #pragma once
 
 #include "stratum/model.hpp"
+#include "stratum/units.hpp"
 
 #include <array>
 #include <utility>
@@ -36,11 +37,11 @@ public:
   /// One row at the model's committed state: load_kN (given), head_mm, pile_shortening_mm,
   /// base_mm, shaft_slip_mean_mm, shaft_slip_top_mm, shaft_load_kN, base_load_kN.
   /// The first call sets the reference state (all components zero).
-  std::array<double, 8> row(Model& model, double load_kN);
+  /// `small`: the factor from the length unit to the unit of the settlements (Units::small_length).
+  std::array<double, 8> row(Model& model, double load_kN, double small = 1e3);
 
-  static constexpr const char* header =
-      "load_kN,head_mm,pile_shortening_mm,base_mm,shaft_slip_mean_mm,shaft_slip_top_mm,shaft_load_kN,"
-      "base_load_kN";
+  /// The CSV header in the scene's units (the names above in kN, m).
+  [[nodiscard]] static std::string header(const Units& units);
 
 private:
   struct Raw {

@@ -14,8 +14,9 @@ double mean_settlement(const Model& m, const std::vector<int>& nodes) {
   return s / static_cast<double>(nodes.size());
 }
 
-std::vector<std::array<double, 2>> axial_profile(const Model& m, const std::vector<int>& cells) {
-  std::map<long long, std::array<double, 2>> rows; // key: y in micrometres
+std::vector<std::array<double, 2>> axial_profile(const Model& m, const std::vector<int>& cells,
+                                                 double per_unit) {
+  std::map<long long, std::array<double, 2>> rows; // key: y in micrometres (1 / per_unit)
   std::vector<int> set(cells);
   std::sort(set.begin(), set.end());
   std::vector<int> nodes;
@@ -35,14 +36,14 @@ std::vector<std::array<double, 2>> axial_profile(const Model& m, const std::vect
           m.formulation == Formulation::axisymmetric ? std::numbers::pi * (r1 * r1 - r0 * r0) : r1 - r0;
       std::map<long long, std::array<double, 2>> local; // sum w sigma, sum w
       for (Eigen::Index p = 0; p < xp.rows(); ++p) {
-        const auto key = std::llround(xp(p, 1) * 1e6);
+        const auto key = std::llround(xp(p, 1) * per_unit);
         const double sy =
             dm.states.committed(dm.first_point[ci] + static_cast<std::size_t>(p)).stress()[voigt::yy];
         local[key][0] += w[p] * sy;
         local[key][1] += w[p];
       }
       for (const auto& [key, v] : local) {
-        rows[key][0] = static_cast<double>(key) * 1e-6;
+        rows[key][0] = static_cast<double>(key) * (1.0 / per_unit);
         rows[key][1] += -area * v[0] / v[1];
       }
     }

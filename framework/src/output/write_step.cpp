@@ -16,11 +16,13 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   out.time = time;
   out.mesh = &m.mesh;
   out.texts = {{"stage", stage_name}};
+  // Other units than kN, m: named in the field data (kN, m writes what it always wrote).
+  if (!units.is_default()) out.texts.push_back({"units", units.describe()});
   out.values = {{"stage_number", stage_number},
                 {"step", stage_step},
                 {"load_factor", m.lambda},
-                {"head_load_kN", last_head_load},
-                {"head_settlement_mm", last_head_settlement}};
+                {units.column("head_load", "kN"), last_head_load},
+                {"head_settlement_" + units.small_length(), last_head_settlement}};
   Field disp{"displacement", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
   Field reac{"reaction", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
   for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)

@@ -33,11 +33,13 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
   }
   if (options.write_output && !summary.load_settlement.empty()) {
     std::ostringstream ls, af;
-    ls << std::setprecision(10) << "load_kN,settlement_mm\n";
+    const Units& u = units;
+    const std::string load = u.column("load", "kN"), depth = u.column("depth", "m");
+    ls << std::setprecision(10) << load << ',' << "settlement_" << u.small_length() << '\n';
     for (const auto& r : summary.load_settlement) ls << r[0] << ',' << r[1] << '\n';
     write_file_atomically((fs::path(summary.out_dir) / "curves" / "load_settlement.csv").string(), ls.str());
     if (!axial_rows.empty()) {
-      af << std::setprecision(10) << "load_kN,depth_m,axial_force_kN\n";
+      af << std::setprecision(10) << load << ',' << depth << ',' << u.column("axial_force", "kN") << '\n';
       double top = -std::numeric_limits<double>::infinity();
       for (int c : m.mesh.cell_sets.at(pile_cells))
         for (int n : m.mesh.cells[static_cast<std::size_t>(c)].nodes)
@@ -46,8 +48,8 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
       write_file_atomically((fs::path(summary.out_dir) / "curves" / "axial_force.csv").string(), af.str());
       if (!shaft_rows.empty()) {
         std::ostringstream st;
-        st << std::setprecision(10)
-           << "load_kN,depth_m,shear_traction_kPa,normal_traction_kPa,slip_mm,status\n";
+        st << std::setprecision(10) << load << ',' << depth << ',' << u.column("shear_traction", "kPa") << ','
+           << u.column("normal_traction", "kPa") << ",slip_" << u.small_length() << ",status\n";
         static const char* names[] = {"stick", "slip", "open"};
         for (const auto& r : shaft_rows)
           st << r[0] << ',' << top - r[1] << ',' << r[2] << ',' << r[3] << ',' << r[4] << ','
@@ -58,7 +60,7 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
     }
     if (!summary.settlement_components.empty()) {
       std::ostringstream sc;
-      sc << std::setprecision(10) << PileComponents::header << '\n';
+      sc << std::setprecision(10) << PileComponents::header(u) << '\n';
       for (const auto& r : summary.settlement_components)
         for (std::size_t i = 0; i < r.size(); ++i) sc << r[i] << (i + 1 < r.size() ? ',' : '\n');
       write_file_atomically((fs::path(summary.out_dir) / "curves" / "settlement_components.csv").string(),

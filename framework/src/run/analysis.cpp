@@ -44,5 +44,6 @@ Model& Analysis::model() { return impl_->model; }
 std::vector<std::string> Analysis::opened_libraries() const { return impl_->catalog->opened(); }
 std::string Analysis::title() const { return impl_->title; }
 std::vector<std::string> Analysis::warnings() const { return impl_->warnings; }
+const Units& Analysis::units() const { return impl_->units; }
 
 } // namespace stratum

@@ -84,7 +84,8 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   auto record = [&] {
     if (!has_head) return;
     const double load = head_load();
-    summary.load_settlement.push_back({load, 1e3 * mean_settlement(m, head_nodes)});
+    const double small = units.small_length_factor(); // m -> mm (Units::small_length)
+    summary.load_settlement.push_back({load, small * mean_settlement(m, head_nodes)});
     last_head_load = load;
     last_head_settlement = summary.load_settlement.back()[1];
     if (pile) {
@@ -93,18 +94,19 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
         for (const auto& i : interfaces.interfaces) itf.push_back(i.domain);
         components.emplace(m, *pile, std::move(itf));
       }
-      summary.settlement_components.push_back(components->row(m, load));
+      summary.settlement_components.push_back(components->row(m, load, small));
     }
     if (pile)
-      for (const auto& [y, n] : axial_profile(m, *pile)) axial_rows.push_back({load, y, n});
+      for (const auto& [y, n] : axial_profile(m, *pile, 1e6 * units.length_in_m())) // levels: micrometres
+        axial_rows.push_back({load, y, n});
     // Shaft tractions: the interface points on the vertical wall (the largest radius).
     for (const auto& itf : interfaces.interfaces) {
       const auto pts = interface_points(m, m.domains[itf.domain]);
       double rmax = 0.0;
       for (const auto& q : pts) rmax = std::max(rmax, q.x.x());
       for (const auto& q : pts)
-        if (q.x.x() > rmax - 1e-9)
-          shaft_rows.push_back({load, q.x.y(), q.traction[0], q.traction[1], 1e3 * q.jump[0],
+        if (q.x.x() > rmax - 1e-9 * std::max(1.0, rmax)) // relative: any length unit
+          shaft_rows.push_back({load, q.x.y(), q.traction[0], q.traction[1], small * q.jump[0],
                                 static_cast<double>(static_cast<int>(q.state))});
     }
   };

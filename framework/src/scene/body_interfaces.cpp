@@ -173,7 +173,7 @@ template <class Map> std::string names_of(const Map& m, std::string_view name = 
 } // namespace
 
 void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Registry& registry, Model& model,
-                           SceneInterfaces& out) {
+                           SceneInterfaces& out, const Units& units) {
   // [contact_laws.<name>]
   std::map<std::string, const ContactLaw*> law_by_name;
   if (const toml::node* n = root.get("contact_laws")) {
@@ -188,7 +188,7 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
       const std::string model_name = require_string(*t, "model", ctx);
       out.laws.push_back(scene::plugin_from_table<ContactLaw>(
           catalog, registry, model_name, location(*t->get("model")), ctx + " model = \"" + model_name + "\"",
-          *t, ctx, scene::key_names(law_keys)));
+          *t, ctx, scene::key_names(law_keys), units));
       law_by_name[name] = out.laws.back().get();
     }
   }
@@ -253,7 +253,7 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
                       "thin cells given as [[domains]] with a material)");
     auto made = scene::plugin_table<Element>(catalog, registry, element, location(*t->get("element")),
                                              ctx + " element = \"" + element + "\"", *t, ctx,
-                                             scene::key_names(interface_keys));
+                                             scene::key_names(interface_keys), units);
     scene::follow_formulation(made.factory->schema, *t, made.params, model.formulation, ctx);
     InterfaceSplit split;
     try {

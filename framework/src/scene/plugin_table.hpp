@@ -30,14 +30,16 @@ template <class T> struct PluginTable {
 };
 
 /// Finds the plugin `name` (kind from T) and checks `table` against its schema; the keys in
-/// `extra` belong to the scene (e.g. `model`), not to the plugin. `ctx` names the table.
+/// `extra` belong to the scene (e.g. `model`), not to the plugin. `ctx` names the table; `units`
+/// are the scene's (defaults convert into them, io::check_table).
 template <class T>
 PluginTable<T> plugin_table(PluginCatalog& catalog, Registry& registry, const std::string& name,
                             const SourceLocation& at, const std::string& what, const toml::table& table,
-                            const std::string& ctx, const std::vector<std::string_view>& extra = {}) {
+                            const std::string& ctx, const std::vector<std::string_view>& extra = {},
+                            const Units& units = {}) {
   require_plugin(catalog, registry, plugin_kind_of<T>(), name, at, what);
   const auto& f = registry.factory<T>(name);
-  return {&f, io::check_table(table, f.schema, ctx, extra)};
+  return {&f, io::check_table(table, f.schema, ctx, extra, units)};
 }
 
 /// The same, and creates the plugin.
@@ -45,8 +47,9 @@ template <class T>
 std::unique_ptr<T> plugin_from_table(PluginCatalog& catalog, Registry& registry, const std::string& name,
                                      const SourceLocation& at, const std::string& what,
                                      const toml::table& table, const std::string& ctx,
-                                     const std::vector<std::string_view>& extra = {}) {
-  return plugin_table<T>(catalog, registry, name, at, what, table, ctx, extra).create();
+                                     const std::vector<std::string_view>& extra = {},
+                                     const Units& units = {}) {
+  return plugin_table<T>(catalog, registry, name, at, what, table, ctx, extra, units).create();
 }
 
 /// An element's formulation follows [analysis] unless its table states it; then they must agree.

@@ -57,7 +57,7 @@ void Analysis::Impl::read_domains(const toml::table& root) {
       const std::string model_name = require_string(*t, "model", ctx);
       materials.push_back(scene::plugin_from_table<Material>(
           *catalog, registry, model_name, location(*t->get("model")), ctx + " model = \"" + model_name + "\"",
-          *t, ctx, scene::key_names(material_keys)));
+          *t, ctx, scene::key_names(material_keys), units));
       material_by_name[name] = materials.back().get();
     }
   }
@@ -85,7 +85,7 @@ void Analysis::Impl::read_domains(const toml::table& root) {
                       "\" is not defined; defined: " + key_list(material_by_name, material));
     auto made = scene::plugin_table<Element>(*catalog, registry, element, location(*t.get("element")),
                                              ctx + " element = \"" + element + "\"", t, ctx,
-                                             scene::key_names(domain_keys));
+                                             scene::key_names(domain_keys), units);
     scene::follow_formulation(made.factory->schema, t, made.params, model.formulation, ctx);
     elements.push_back(made.create());
     Domain dm;

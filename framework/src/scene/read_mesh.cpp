@@ -133,7 +133,7 @@ void Analysis::Impl::read_mesh(const toml::table& root, const SourceLocation& pi
       }
       const auto made =
           scene::plugin_table<MeshGenerator>(*catalog, registry, generator, mp.where("generator"), what,
-                                             optional_table(mt, sub), "[mesh." + sub + "]");
+                                             optional_table(mt, sub), "[mesh." + sub + "]", {}, units);
       const auto mesher = made.create();
       try {
         model.mesh =

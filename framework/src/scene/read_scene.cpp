@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -19,6 +20,44 @@ using io::check_table;
 using io::location;
 using scene::optional_table;
 using namespace scene;
+
+Units scene::read_units(const toml::table& root) {
+  const auto& t = optional_table(root, "units");
+  // A misspelt unit gets "did you mean" (check_table would list the allowed ones only).
+  for (const auto& [key, allowed] :
+       {std::pair{"force", &Units::force_units()}, std::pair{"length", &Units::length_units()}}) {
+    const auto* v = t.get(key);
+    if (!v || !v->is_string()) continue;
+    const std::string x = v->as_string()->get();
+    if (std::find(allowed->begin(), allowed->end(), x) != allowed->end()) continue;
+    std::string list;
+    for (auto a : *allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+    throw Error(location(*v), std::string("[units] ") + key + " = " + io::show(*v) +
+                                  " is not allowed; allowed: one of: " + list + did_you_mean(x, *allowed));
+  }
+  const auto p = check_table(t, units_schema(), "[units]");
+  Units u(p.text("force"), p.text("length"));
+  u.declared_at = p.where("force").known() ? p.where("force") : location(t);
+  if (const auto* sv = t.get("stress")) {
+    const std::string want = p.text("stress");
+    const std::string spelt = u.force() + "/" + u.length() + "2";
+    if (want != u.stress() && want != spelt)
+      throw Error(location(*sv), "[units] stress = \"" + want + "\" does not follow from force = \"" +
+                                     u.force() + "\", length = \"" + u.length() + "\" (" + spelt +
+                                     "); allowed: " + u.stress() + (spelt == u.stress() ? "" : ", " + spelt) +
+                                     " (or leave stress out)");
+  }
+  return u;
+}
+
+Units scene_units(const std::string& scene_path) {
+  std::ifstream in(scene_path, std::ios::binary);
+  if (!in || fs::is_directory(scene_path))
+    throw Error(SourceLocation{scene_path, 0, 0}, "cannot open scene file '" + scene_path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return read_units(io::parse_with_includes(ss.str(), scene_path));
+}
 
 void Analysis::Impl::build(const toml::table& root) {
   // The framework's own stage actions and mesh generators are registered like a plugin's.
@@ -68,6 +107,9 @@ void Analysis::Impl::build(const toml::table& root) {
   }
   catalog = std::make_unique<PluginCatalog>(dirs);
 
+  // ---- units (stratum/units.hpp): before anything whose defaults they convert
+  units = read_units(root);
+
   // ---- analysis, convergence, output
   const auto ap = check_table(optional_table(root, "analysis"), analysis_schema(), "[analysis]");
   model.formulation =
@@ -89,7 +131,8 @@ void Analysis::Impl::build(const toml::table& root) {
   stepping.max_arc_length = ap.real("max_arc_length");
   stepping.max_steps = static_cast<int>(ap.integer("max_steps"));
   stepping.error_tolerance = ap.real("error_tolerance");
-  const auto cp = check_table(optional_table(root, "convergence"), convergence_schema(), "[convergence]");
+  const auto cp =
+      check_table(optional_table(root, "convergence"), convergence_schema(), "[convergence]", {}, units);
   convergence.force_rtol = cp.real("force_rtol");
   convergence.force_atol = cp.real("force_atol");
   convergence.disp_rtol = cp.real("disp_rtol");
@@ -113,7 +156,7 @@ void Analysis::Impl::build(const toml::table& root) {
     const std::string name = ap.text("solver");
     const auto made = scene::plugin_table<Solver>(
         *catalog, registry, name, ap.where("solver").known() ? ap.where("solver") : location(root),
-        "[analysis] solver = \"" + name + "\"", optional_table(root, "solver"), "[solver]");
+        "[analysis] solver = \"" + name + "\"", optional_table(root, "solver"), "[solver]", {}, units);
     solver_factory = made.factory;
     solver_params = made.params;
     solver = made.create(); // checks the parameters now; each stage gets its own (run_stage)
@@ -121,7 +164,7 @@ void Analysis::Impl::build(const toml::table& root) {
 
   read_mesh(root, pile_cells_at);
   read_domains(root);
-  read_scene_interfaces(root, *catalog, registry, model, interfaces);
+  read_scene_interfaces(root, *catalog, registry, model, interfaces, units);
   read_constraints(root);
   read_stages(root);
 
@@ -129,7 +172,7 @@ void Analysis::Impl::build(const toml::table& root) {
   {
     const auto list = table_list(optional_table(root, "output"), "history");
     for (std::size_t i = 0; i < list.size(); ++i) {
-      recorders.emplace_back(*list[i], "[[output.history]] #" + std::to_string(i + 1), model);
+      recorders.emplace_back(*list[i], "[[output.history]] #" + std::to_string(i + 1), model, units);
       for (std::size_t j = 0; j + 1 < recorders.size(); ++j)
         if (recorders[j].name() == recorders.back().name())
           throw Error(location(*list[i]), "[[output.history]] #" + std::to_string(i + 1) + " name = \"" +

@@ -128,7 +128,7 @@ std::unique_ptr<StageAction> Analysis::Impl::parse_action(const toml::table& at,
     }
   }
   auto action = scene::plugin_from_table<StageAction>(*catalog, registry, type, type_at, ctx, at, ctx,
-                                                      scene::key_names(action_keys));
+                                                      scene::key_names(action_keys), units);
   StageCheck check{model.mesh, ctx, location(at), load_names, default_load_name, false};
   action->check(check);
   reset_after = reset_after || check.reset_after;
@@ -139,7 +139,7 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
                                          std::set<std::string>& load_names) {
   const scene::TableKeys keys =
       scene::stage_keys(stepping.max_cutbacks, stepping.error_tolerance, vtk, static_cast<long long>(every));
-  const auto p = check_table(t, keys.schema, ctx, keys.other_names());
+  const auto p = check_table(t, keys.schema, ctx, keys.other_names(), units);
   stage::Stage st;
   st.name = p.text("name");
   st.where = location(t);

@@ -36,8 +36,11 @@ std::string default_text(const ParamSpec& p) {
   return d.str();
 }
 
-void write_schema(std::ostream& out, const Schema& s) {
-  for (const auto& p : s.specs()) {
+void write_schema(std::ostream& out, const Schema& s) { write_schema(out, s, Units{}); }
+
+void write_schema(std::ostream& out, const Schema& s, const Units& units) {
+  for (const auto& declared : s.specs()) {
+    const ParamSpec p = spec_in_units(declared, units);
     out << "  " << std::left << std::setw(18) << p.name << " " << std::setw(8) << to_string(p.type) << " "
         << std::setw(7) << (p.unit.empty() ? "-" : p.unit) << " " << p.allowed();
     if (p.fallback)
@@ -132,6 +135,21 @@ std::vector<Section> sections(const Registry* reg) {
         "value in two included files, or an array of tables (such as [[stages]]) written both in an include "
         "and in the including file, is an error naming both places; includes nest, a cycle is an error. "
         "File names written as values (a Gmsh mesh) stay relative to the file that is run."};
+  }
+  {
+    auto& s = add("units", "[units]", "the scene's force and length units (default kN, m; stress kPa)");
+    s.notes = {
+        "The scene's numbers are read in its units and the results are written in them: nothing the scene "
+        "writes is converted. What converts are the defaults of parameters, which plugins and the framework "
+        "declare in kN, m, kPa (the units the reference shows): a default of a dimensional parameter "
+        "(p_a = 100 kPa, gamma_w = 9.81 kN/m3, force_atol = 1e-10 kN) becomes its value in the scene's "
+        "units (p_a = 0.1 in N, mm), and so do range bounds. `stratum plugins --describe NAME --scene "
+        "FILE` shows a plugin's units and defaults in a scene's units. A plugin whose model holds "
+        "numbers it cannot rescale refuses other units with a located error.",
+        "Labels follow: CSV headers (load_N, depth_mm, shear_traction_MPa), the VTK field data "
+        "(head_load_N, and a `units` string), the run's table and the check lines. Settlements and "
+        "slips are tabulated in mm when length = \"m\" (x 1000), otherwise in the length unit itself."};
+    s.blocks.push_back(own(scene::units_schema()));
   }
   const Schema analysis = scene::analysis_schema();
   add("analysis", "[analysis]", "formulation, solver plugin, linear solver, threads, load stepping")
@@ -231,7 +249,9 @@ std::vector<Section> sections(const Registry* reg) {
     }
     b.notes.push_back(
         "Units: displacements m, reactions kN (sums over the set), stresses kPa (tension positive), "
-        "strains -, s, x, y m; status: the model's own regime number (-1: none).");
+        "strains -, s, x, y m; status: the model's own regime number (-1: none). In a scene with [units]: "
+        "its "
+        "length, force and stress units (the column names stay as they are; checks name them).");
     s.blocks.push_back(std::move(b));
   }
   {
@@ -314,7 +334,8 @@ void write_scene_reference_markdown(std::ostream& out, const Registry& reg) {
          "Every table and key a scene file (TOML) may hold, as the scene reader checks them: type, unit,\n"
          "allowed values, default (or *required*) and meaning. `stratum describe SECTION` prints the\n"
          "same on the terminal. Materials, elements and contact laws are plugins with their own\n"
-         "parameters: `stratum plugins --describe NAME`. Units: kN, m, kPa; tension positive.\n\n";
+         "parameters: `stratum plugins --describe NAME`. Units: kN, m, kPa unless the scene's [units]\n"
+         "declare others (the units and defaults below are in kN, m, kPa); tension positive.\n\n";
   const auto all = sections(&reg);
   for (const auto& s : all)
     out << "- [`" << s.info.header << "`](#" << s.info.name << "): " << md_text(s.info.summary) << "\n";

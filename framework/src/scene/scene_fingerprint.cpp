@@ -70,6 +70,8 @@ std::vector<FingerprintPart> scene_parts(const toml::table& root, const Mesh& me
   if (const auto* a = root["analysis"].as_table())
     if (const auto* f = a->get("formulation"); f && f->is_string()) formulation = f->as_string()->get();
   add("[analysis] formulation", formulation, -1, io::location(root));
+  // [units] only when a scene has them: checkpoints of kN, m scenes stay as they were.
+  if (const auto* u = root.get("units")) add("[units]", canonical(*u), -1, io::location(*u));
   add("the mesh (nodes, cells and sets as built)", mesh_text(mesh), -1,
       root.get("mesh") ? io::location(*root.get("mesh")) : io::location(root));
   for (const char* group : {"materials", "contact_laws"})

@@ -6,6 +6,7 @@
 #include "stratum/model.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/registry.hpp"
+#include "stratum/units.hpp"
 
 #include <toml++/toml.h>
 
@@ -31,7 +32,8 @@ struct SceneInterfaces {
 /// split_interface) and appends one Domain per interface to the model. Call after the
 /// [[domains]] are built and before constraints are read (the node sets <name>.side1/.side2
 /// exist afterwards). Throws Error with file:line:col on bad input.
+/// `units` are the scene's ([units]; defaults of the laws' parameters convert into them).
 void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Registry& registry, Model& model,
-                           SceneInterfaces& out);
+                           SceneInterfaces& out, const Units& units = {});
 
 } // namespace stratum

@@ -3,6 +3,7 @@
 #include "stratum/linear_solver.hpp"
 #include "stratum/solver.hpp"
 #include "stratum/step_control.hpp"
+#include "stratum/units.hpp"
 
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@ TableKeys top_keys() {
   k.other = {
       {"include", "string or list of strings",
        "scene files merged in first, relative to this file (stratum describe include)"},
+      {"units", "table", "[units]"},
       {"analysis", "table", "[analysis]"},
       {"convergence", "table", "[convergence]"},
       {"solver", "table", "[solver]"},
@@ -32,6 +34,28 @@ TableKeys top_keys() {
       {"checks", "array of tables", "[[checks]]"},
   };
   return k;
+}
+
+Schema units_schema() {
+  Schema s;
+  std::vector<std::string> force, length;
+  for (auto u : Units::force_units()) force.emplace_back(u);
+  for (auto u : Units::length_units()) length.emplace_back(u);
+  s.text("force", force,
+         "force unit of every value the scene writes and every label it gets (loads, reactions, "
+         "axial forces); the scene's numbers are not converted, they are read in these units")
+      .defaults_to(std::string("kN"));
+  s.text("length", length,
+         "length unit (coordinates, displacements, mesh sizes); stress is force/length^2 (N, mm: MPa; "
+         "kN, m: kPa; N, m: Pa); settlements and slips in tables are in mm when length = \"m\", "
+         "otherwise in the length unit")
+      .defaults_to(std::string("m"));
+  s.text("stress", {},
+         "optional: the stress unit as a check of what force/length^2 gives (kPa, Pa, MPa, GPa, or "
+         "e.g. \"N/mm2\"); plugins' defaults (p_a = 100 kPa, gamma_w = 9.81 kN/m3) are converted "
+         "into the scene's units, and a plugin that cannot follow them refuses the scene")
+      .defaults_to(std::string("(derived)"));
+  return s;
 }
 
 Schema analysis_schema() {

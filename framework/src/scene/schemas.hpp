@@ -1,5 +1,5 @@
 // The schemas of the scene's own tables: [analysis], [convergence], [mesh], [[mesh.blocks]],
-// [output], [[constraints]], [[domains]], [materials.<name>], [contact_laws.<name>],
+// [units], [output], [[constraints]], [[domains]], [materials.<name>], [contact_laws.<name>],
 // [[interfaces]], [[stages]], [[output.history]], [[checks]], and the framework's keys of the
 // tables that name a plugin. A plugin's table is checked against the schema its factory declares.
 // The scene reader checks the tables against these, and `stratum describe` (scene/reference.cpp)
@@ -33,6 +33,8 @@ struct TableKeys {
 
 /// The top level: title, include and the sections' tables.
 [[nodiscard]] TableKeys top_keys();
+/// [units]: force and length (stress follows); stratum/units.hpp.
+[[nodiscard]] Schema units_schema();
 [[nodiscard]] Schema analysis_schema();
 [[nodiscard]] Schema convergence_schema();
 [[nodiscard]] TableKeys mesh_keys();

@@ -1,6 +1,8 @@
 // Getting at the scene's tables, with file:line:col in every message.
 #pragma once
 
+#include "stratum/units.hpp"
+
 #include <toml++/toml.h>
 
 #include <string>
@@ -14,6 +16,8 @@ namespace stratum::scene {
                                           const std::string& ctx);
 /// The table [key] of `root`, or an empty table when it is absent.
 [[nodiscard]] const toml::table& optional_table(const toml::table& root, std::string_view key);
+/// The [units] table of `root` (kN, m when absent), checked; located errors (scene/read_scene.cpp).
+[[nodiscard]] Units read_units(const toml::table& root);
 /// Array of tables [[key]] (absent = empty).
 [[nodiscard]] std::vector<const toml::table*> table_list(const toml::table& root, std::string_view key);
 

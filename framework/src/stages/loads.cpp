@@ -29,20 +29,20 @@ std::vector<Edge> load_edges(const Model& model, const LoadSpec& spec) {
       top = std::max({top, model.mesh.nodes[n[0]].y(), model.mesh.nodes[n[1]].y()});
   }
   std::vector<Edge> edges;
+  const double tol = 1e-9 * std::max(1.0, std::abs(top)); // relative: any length unit ([units])
   for (int c : cells) {
     if (!model.is_active(c)) continue;
     const auto& n = model.mesh.cells[c].nodes;
     if (n[3] < 0) { // triangle (slot 3 empty): any of its edges k -> k+1 (midside 4 + k) on the top
       for (int k = 0; k < 3; ++k) {
         const int a = n[k], b = n[(k + 1) % 3];
-        if (std::abs(model.mesh.nodes[a].y() - top) < 1e-9 && std::abs(model.mesh.nodes[b].y() - top) < 1e-9)
+        if (std::abs(model.mesh.nodes[a].y() - top) < tol && std::abs(model.mesh.nodes[b].y() - top) < tol)
           edges.push_back(Edge{a, b, n[4 + k]});
       }
       continue;
     }
     // Top side of a quadrilateral cell, counter-clockwise: corner 2 -> corner 3, midside 6.
-    if (std::abs(model.mesh.nodes[n[2]].y() - top) < 1e-9 &&
-        std::abs(model.mesh.nodes[n[3]].y() - top) < 1e-9)
+    if (std::abs(model.mesh.nodes[n[2]].y() - top) < tol && std::abs(model.mesh.nodes[n[3]].y() - top) < tol)
       edges.push_back(Edge{n[2], n[3], n[6]});
   }
   return edges;
