@@ -361,3 +361,59 @@ TEST_CASE("VtkSeriesWriter rejects cells it cannot write", "[output]") {
   }
   CHECK(writer.steps_written() == 0);
 }
+
+TEST_CASE("VtkSeriesWriter in the background writes the same files and reports errors at finish()",
+          "[output]") {
+  TempDir tmp;
+  const Mesh mesh = strip_mesh();
+  // Three steps (one without integration points), written once in the foreground and once in
+  // the background, where each step's data is gone (out of scope) before its files are written.
+  auto steps = [&] {
+    std::vector<OutputStep> v{make_step(mesh, {0, 1, 2, 3}, 0.0, 0), make_step(mesh, {3, 2, 0}, 1.0, 1),
+                              make_step(mesh, {0, 1}, 1.0, 2)}; // same time: written at 1 + 1e-6
+    v[1].ip_coords.resize(0, 2);
+    v[1].ip_fields.clear();
+    return v;
+  };
+  const fs::path fg = tmp.path / "fg", bg = tmp.path / "bg";
+  {
+    VtkSeriesWriter w(fg.string(), "s");
+    for (const auto& st : steps()) w.write(st);
+  }
+  {
+    VtkSeriesWriter w(bg.string(), "s", true);
+    for (int k = 0; k < 3; ++k) {
+      Mesh copy = mesh;
+      OutputStep st = steps()[static_cast<std::size_t>(k)];
+      st.mesh = &copy;
+      w.write(st);
+      copy.nodes.clear(); // the caller's mesh may change once write() has returned
+    }
+    CHECK(w.steps_written() == 3);
+    w.finish();
+  }
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(fg)) names.push_back(e.path().filename().string());
+  CHECK(names.size() == 7); // 3 .vtu, 2 .vtp, 2 .pvd
+  for (const auto& n : names) {
+    INFO(n);
+    CHECK(read_text(fg / n) == read_text(bg / n));
+  }
+  CHECK_FALSE(fs::exists(bg / "s_ip_1.vtp"));
+  CHECK_FALSE(has_temp_files(bg));
+
+  SECTION("a failed background write is thrown by the next write() or by finish()") {
+    const fs::path dir = tmp.path / "err";
+    fs::create_directories(dir / "s_1.vtu" / "keep"); // step 1 cannot be renamed into place
+    VtkSeriesWriter w(dir.string(), "s", true);
+    const OutputStep st = make_step(mesh, {0, 1, 2, 3}, 0.0, 0);
+    w.write(st);
+    OutputStep st1 = st;
+    st1.time = 1.0;
+    w.write(st1); // returns: the failure happens on the writer's thread
+    CHECK_THROWS_WITH(w.finish(), Catch::Contains("cannot write '" + (dir / "s_1.vtu").string() + "'"));
+    CHECK(fs::is_regular_file(dir / "s_0.vtu"));
+    CHECK_FALSE(has_temp_files(dir));
+    w.finish(); // nothing pending any more
+  }
+}

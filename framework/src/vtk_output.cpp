@@ -33,6 +33,8 @@
 #include <charconv>
 #include <filesystem>
 #include <fstream>
+#include <future>
+#include <memory>
 #include <string_view>
 #include <system_error>
 
@@ -412,15 +414,24 @@ vtkSmartPointer<vtkPolyData> make_point_cloud(const OutputStep& step, double tim
 
 } // namespace
 
-VtkSeriesWriter::VtkSeriesWriter(std::string directory, std::string stem)
-    : dir_(std::move(directory)), stem_(std::move(stem)) {
+VtkSeriesWriter::VtkSeriesWriter(std::string directory, std::string stem, bool background)
+    : dir_(std::move(directory)), stem_(std::move(stem)), background_(background) {
   if (stem_.empty()) throw Error("VTK output: empty file name stem");
+}
+
+VtkSeriesWriter::~VtkSeriesWriter() {
+  if (pending_.valid()) pending_.wait(); // an error here has nobody left to hear it
+}
+
+void VtkSeriesWriter::finish() {
+  if (pending_.valid()) pending_.get(); // rethrows the background write's Error
 }
 
 std::string VtkSeriesWriter::pvd_path() const { return (fs::path(dir_) / (stem_ + ".pvd")).string(); }
 
 void VtkSeriesWriter::write(const OutputStep& step) {
   if (step.mesh == nullptr) throw Error("VTK output: output step without a mesh");
+  finish(); // the step before is on disk (or its error is thrown here)
   // Strictly increasing times: ParaView shows one data set per time value.
   const double time = !times_.empty() && !(step.time > times_.back()) ? times_.back() + 1e-6 : step.time;
   const Mesh& mesh = *step.mesh;
@@ -438,8 +449,26 @@ void VtkSeriesWriter::write(const OutputStep& step) {
     if (ec) fail(dir, ec.message());
     if (!fs::is_directory(dir, ec)) fail(dir, "not a directory");
   }
+  std::vector<double> times = times_;
+  times.push_back(time);
+  if (!background_) {
+    write_files(step, times);
+    times_ = std::move(times); // counted once its files are on disk
+    return;
+  }
+  // The thread gets its own copies: the caller's step, mesh and times may change meanwhile.
+  auto owned = std::make_shared<std::pair<OutputStep, Mesh>>(step, mesh);
+  owned->first.mesh = &owned->second;
+  times_ = times;
+  pending_ = std::async(std::launch::async,
+                        [this, owned, times = std::move(times)] { write_files(owned->first, times); });
+}
 
-  const std::size_t k = times_.size();
+void VtkSeriesWriter::write_files(const OutputStep& step, const std::vector<double>& times) const {
+  const fs::path dir(dir_);
+  const double time = times.back(); // step.time made strictly increasing
+  const std::size_t k = times.size() - 1;
+  const auto num_ip = static_cast<std::size_t>(step.ip_coords.rows());
   const std::string vtu_name = stem_ + "_" + std::to_string(k) + ".vtu";
   const std::string vtp_name = stem_ + "_ip_" + std::to_string(k) + ".vtp";
 
@@ -462,11 +491,10 @@ void VtkSeriesWriter::write(const OutputStep& step) {
   // Collections of every step so far (this one included).
   std::vector<std::pair<double, std::string>> grids, clouds;
   for (std::size_t i = 0; i <= k; ++i) {
-    const double t = i < k ? times_[i] : time;
-    grids.emplace_back(t, stem_ + "_" + std::to_string(i) + ".vtu");
+    grids.emplace_back(times[i], stem_ + "_" + std::to_string(i) + ".vtu");
     std::string cloud = stem_ + "_ip_" + std::to_string(i) + ".vtp";
     std::error_code ec;
-    if (fs::is_regular_file(dir / cloud, ec)) clouds.emplace_back(t, std::move(cloud));
+    if (fs::is_regular_file(dir / cloud, ec)) clouds.emplace_back(times[i], std::move(cloud));
   }
   write_text(pvd_text(grids), dir / (stem_ + ".pvd"));
   const fs::path ip_pvd = dir / (stem_ + "_ip.pvd");
@@ -475,8 +503,6 @@ void VtkSeriesWriter::write(const OutputStep& step) {
   } else {
     remove_file(ip_pvd);
   }
-
-  times_.push_back(time);
 }
 
 } // namespace stratum

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include <future>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,17 +50,34 @@ struct OutputStep {
 /// Cells: 4-node quads as VTK_QUAD, 8-node as VTK_QUADRATIC_QUAD, 5-7-node transition
 /// quads as VTK_POLYGON through corners and midside nodes in boundary order; 3- and 6-node
 /// triangles as VTK_TRIANGLE and VTK_QUADRATIC_TRIANGLE.
+///
+/// In the background mode write() checks the step, copies it (mesh included) and returns; the
+/// files are written on a thread of the writer's own while the caller goes on, one step at a time
+/// and in order. The next write() and finish() wait for that step and throw its Error, if any; the
+/// destructor waits without throwing. The files are those of the foreground mode, byte for byte.
 class VtkSeriesWriter {
 public:
-  VtkSeriesWriter(std::string directory, std::string stem);
-  /// Throws Error when a file cannot be written.
+  VtkSeriesWriter(std::string directory, std::string stem, bool background = false);
+  VtkSeriesWriter(const VtkSeriesWriter&) = delete;
+  VtkSeriesWriter& operator=(const VtkSeriesWriter&) = delete;
+  ~VtkSeriesWriter();
+  /// Throws Error when the step is malformed or a file (of this step or, in the background mode,
+  /// of the one before) cannot be written.
   void write(const OutputStep& step);
+  /// Waits until every step given to write() is on disk; throws the Error of a failed one.
+  void finish();
   [[nodiscard]] std::string pvd_path() const;
+  /// Steps given to write() (in the background mode the last one may still be being written).
   [[nodiscard]] int steps_written() const { return static_cast<int>(times_.size()); }
 
 private:
+  /// Writes the files of step k = times.size() - 1 at time times[k] and the collections of
+  /// steps 0..k.
+  void write_files(const OutputStep& step, const std::vector<double>& times) const;
   std::string dir_, stem_;
+  bool background_;
   std::vector<double> times_;
+  std::future<void> pending_; ///< the background write of the last step
 };
 
 } // namespace stratum

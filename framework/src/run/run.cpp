@@ -56,7 +56,11 @@ RunSummary Analysis::run() {
   }
   std::unique_ptr<VtkSeriesWriter> writer;
   if (s.options.write_output && s.vtk) {
-    writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string());
+    // With more than one thread allowed, the VTK files are written on a thread of the writer's
+    // own while the next steps are solved (the sparse LU is serial, so a core is often free);
+    // the files are the same. [analysis] threads = 1 keeps everything on one thread.
+    writer =
+        std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string(), s.threads > 1);
     timed(summary.times.output, [&] { s.write_step(*writer, s.time); });
   }
   std::vector<std::array<double, 3>> axial_rows;
@@ -99,7 +103,10 @@ RunSummary Analysis::run() {
       break;
     }
   }
-  if (writer) summary.pvd = writer->pvd_path();
+  if (writer) {
+    timed(summary.times.output, [&] { writer->finish(); });
+    summary.pvd = writer->pvd_path();
+  }
   const auto t_out = std::chrono::steady_clock::now();
   s.write_tables(summary, axial_rows, {});
   summary.checks = evaluate_checks(s.checks, s.recorders);
