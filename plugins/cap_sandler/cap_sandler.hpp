@@ -36,6 +36,7 @@
 #include "stratum/voigt.hpp"
 
 #include <Eigen/Core>
+#include <boost/math/special_functions/lambert_w.hpp>
 
 #include <algorithm>
 #include <array>
@@ -99,15 +100,27 @@ struct Constants {
     return hi;
   }
 
-  /// kappa with X(kappa) = Xv. X is increasing and concave in kappa: Newton from the left of
-  /// the root converges monotonically (every Newton step from the right lands on the left).
+  /// kappa with X(kappa) = Xv. X(kappa) = s kappa + R A - R C exp(-B kappa) with s = 1 + R theta,
+  /// so with b = Xv - R A and kappa = b / s + v: (B v) exp(B v) = z = (B R C / s) exp(-B b / s),
+  /// i.e. kappa = b / s + W0(z) / B with Lambert's W0 (z > 0). That closed form starts Newton on
+  /// X(kappa) = Xv, which takes it to round-off in one step (one exponential per step). Where z
+  /// overflows (kappa far beyond the envelope's apex, never admissible) Newton starts at
+  /// min(Xv, 0): X is increasing and concave, so Newton from the left of the root converges
+  /// monotonically (every Newton step from the right lands on the left). Newton stops when the
+  /// step is below 1e-14 (1 + |kappa|) or the residual is at the round-off of its terms (near
+  /// kappa = 0 the step cannot get below the first bound).
   [[nodiscard]] double kappa_of_X(double Xv) const {
+    const double s = 1.0 + R * theta, b = Xv - R * A;
+    const double z = (B * R * C / s) * std::exp(-B * b / s);
     double k = std::min(Xv, 0.0);
+    if (std::isfinite(z) && z < 1e300) k = b / s + boost::math::lambert_w0(z) / B;
     for (int it = 0; it < 200; ++it) {
-      const double g = X(k) - Xv;
-      const double dk = g / dX(k);
+      const double e = std::exp(-B * k);
+      const double g = k + R * (A - C * e + theta * k) - Xv; // X(k) - Xv
+      const double dk = g / (1.0 + R * (C * B * e + theta)); // / dX(k)
       k -= dk;
-      if (std::abs(dk) <= 1e-14 * (1.0 + std::abs(k))) break;
+      const double terms = std::abs(k) + R * (A + C * e + theta * std::abs(k)) + std::abs(Xv);
+      if (std::abs(dk) <= 1e-14 * (1.0 + std::abs(k)) || std::abs(g) <= 8.0 * 2.2e-16 * terms) break;
     }
     return k;
   }

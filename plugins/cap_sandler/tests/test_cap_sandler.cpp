@@ -431,6 +431,36 @@ TEST_CASE("cap_sandler: analytic derivatives of the model match finite differenc
   }
 }
 
+TEST_CASE("cap_sandler: the closed-form cap inverse kappa(X) equals the root by bisection", "[cap]") {
+  // kappa_of_X starts Newton at the Lambert-W closed form; the reference here is 200 bisections
+  // of X(kappa) = Xv (X is increasing), independent of both. Tolerance: 1e-13 (1 + |kappa|),
+  // the round-off of X's terms (R A = 475 kPa) divided by dX/dkappa >= 1. Includes kappa near
+  // 0, where the old stopping rule alone cycled at round-off, and a linear envelope term theta.
+  for (double theta : {0.0, 0.05}) {
+    cs::Constants c = loess(0.0);
+    c.theta = theta;
+    const double apex = c.envelope_apex();
+    for (double kappa :
+         {apex + 1e-3, -300.0, -137.0, -1.0, -1e-9, 0.0, 1e-9, 0.5, 37.0, 250.0, 1.0e3, 2.5e4, 3.0e6}) {
+      const double Xv = c.X(kappa);
+      double lo = apex - 1.0, hi = Xv + 1.0;
+      for (int it = 0; it < 200; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (c.X(mid) < Xv ? lo : hi) = mid;
+      }
+      const double k = c.kappa_of_X(Xv);
+      INFO("theta " << theta << " kappa " << kappa << " X " << Xv << " got " << k << " bisection " << lo);
+      CHECK(std::abs(k - 0.5 * (lo + hi)) <= 1e-13 * (1.0 + std::abs(k)));
+      CHECK(std::abs(k - kappa) <= 1e-12 * (1.0 + std::abs(kappa)));
+      // and through the hardening law: eps -> kappa -> eps
+      if (kappa > -300.0 && kappa < 3.0e3) {
+        const double e = c.eps_of_kappa(kappa);
+        CHECK(c.eps_of_kappa(c.kappa_of_eps(e)) == Approx(e).epsilon(1e-12).margin(1e-18));
+      }
+    }
+  }
+}
+
 TEST_CASE("cap_sandler: closest-point consistent tangent matches finite differences", "[cap]") {
   const cs::Constants c = loess(0.0);
   const cs::CapSandler m(c, cs::Integration::closest_point);
