@@ -529,21 +529,21 @@ public:
       regime = r.regime;
       if (regime == Regime::elastic) {
         out.tangent = model_.elastic(out.stress, {});
-      } else {
+      } else if (in.want_tangent) {
         const std::array<double, 1> q{c.eps_of_kappa(kappa)};
         out.tangent = plasticity::continuum_tangent(model_, out.stress, q, r.active);
       }
     } else {
       std::array<double, 1> q{c.eps_of_kappa(kappa_n)};
-      const plasticity::Result r =
-          plasticity::integrate(model_, settings_, in.stress_n, in.dstrain, out.stress, q, out.tangent);
+      const plasticity::Result r = plasticity::integrate(
+          model_, settings_, in.stress_n, in.dstrain, out.stress, q, out.tangent, nullptr, in.want_tangent);
       if (!r.outcome.ok()) return Outcome::failure(r.outcome.status, where() + r.outcome.message);
       if (r.plastic) {
         kappa = c.kappa_of_eps(q[0]);
         regime = classify(out.stress, q);
       }
     }
-    if (!out.stress.allFinite() || !out.tangent.allFinite() || !std::isfinite(kappa))
+    if (!out.stress.allFinite() || (in.want_tangent && !out.tangent.allFinite()) || !std::isfinite(kappa))
       return Outcome::failure(Status::non_finite, where() + "the stress update produced NaN or Inf");
     if (!(c.eps_of_kappa(kappa) < c.W))
       return Outcome::failure(Status::material_failure,

@@ -226,22 +226,27 @@ NewtonResult newton(const Context& c, const ImplicitSystem& sys, const std::vect
     ++out.iterations;
     if (c.counters) ++c.counters->iterations;
     const VecX dx = lu.solve(-R);
-    // Full step unless it increases the weighted residual; then halve (at most 6 times).
+    // Full step unless it increases the weighted residual; then halve (at most 6 times). The
+    // full step is evaluated with its Jacobian, which the next iteration uses when it is taken.
     const double m0 = merit(R, tol);
     VecX xt = x + dx, Rt;
-    sys.evaluate(xt, active, Rt, nullptr);
-    if (!(Rt.allFinite() && merit(Rt, sys.tolerances(xt, na)) < m0)) {
-      double step = 1.0;
-      for (int ls = 0; ls < 6; ++ls) {
-        step *= 0.5;
-        const VecX xs = x + step * dx;
-        sys.evaluate(xs, active, Rt, nullptr);
-        if (Rt.allFinite() && merit(Rt, sys.tolerances(xs, na)) < m0) {
-          xt = xs;
-          break;
-        }
-      } // no decrease found: keep the full Newton step
+    MatX Jt;
+    sys.evaluate(xt, active, Rt, &Jt);
+    VecX tolt = sys.tolerances(xt, na);
+    if (Rt.allFinite() && merit(Rt, tolt) < m0) {
+      x = xt, R = Rt, J = Jt, tol = tolt;
+      continue;
     }
+    double step = 1.0;
+    for (int ls = 0; ls < 6; ++ls) {
+      step *= 0.5;
+      const VecX xs = x + step * dx;
+      sys.evaluate(xs, active, Rt, nullptr);
+      if (Rt.allFinite() && merit(Rt, sys.tolerances(xs, na)) < m0) {
+        xt = xs;
+        break;
+      }
+    } // no decrease found: keep the full Newton step
     x = xt;
     sys.evaluate(x, active, R, &J);
     tol = sys.tolerances(x, na);
