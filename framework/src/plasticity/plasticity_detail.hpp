@@ -75,7 +75,15 @@ public:
     }
     S = S * col_.asDiagonal();
     lu_.compute(S);
-    return lu_.isInvertible() && lu_.rcond() > 1e-14;
+    // Partial pivoting on the equilibrated matrix; singular (dependent gradients at a corner or
+    // an apex) when a pivot is negligible against the largest (the rank test of a full-pivot LU)
+    // or the estimated reciprocal condition number is below 1e-14.
+    const auto d = lu_.matrixLU().diagonal().cwiseAbs();
+    const double dmax = d.maxCoeff();
+    if (!(dmax > 0.0) || !std::isfinite(dmax)) return false;
+    if (!(d.minCoeff() > static_cast<double>(n) * std::numeric_limits<double>::epsilon() * dmax))
+      return false;
+    return lu_.rcond() > 1e-14;
   }
   template <class B> [[nodiscard]] auto solve(const B& b) const {
     using Out = Eigen::Matrix<double, Eigen::Dynamic, B::ColsAtCompileTime, 0, MaxN, B::MaxColsAtCompileTime>;
@@ -85,7 +93,7 @@ public:
   }
 
 private:
-  Eigen::FullPivLU<Mat> lu_;
+  Eigen::PartialPivLU<Mat> lu_;
   Vec row_, col_;
 };
 
@@ -129,8 +137,8 @@ struct Context {
   /// The yield tolerance ftol * stress_scale (a positive stress).
   template <class Q> double tol(const Vec6& s, const Q& q) const { return settings.ftol * scale(s, q); }
   template <class Q> Gradients grad(int k, const Vec6& s, const Q& q) const {
-    return {model.yield_gradient(k, s, cs(q.eval())), model.flow(k, s, cs(q.eval())), model.yield_gradient_q(k, s, cs(q.eval())),
-            model.hardening(k, s, cs(q.eval()))};
+    return {model.yield_gradient(k, s, cs(q.eval())), model.flow(k, s, cs(q.eval())),
+            model.yield_gradient_q(k, s, cs(q.eval())), model.hardening(k, s, cs(q.eval()))};
   }
   template <class Q> Vec6 elastic_update(const Vec6& s, const Q& q, const Vec6& de) const {
     return model.elastic_update(s, cs(q.eval()), de);
