@@ -276,6 +276,43 @@ public:
     return -plasticity::identity().transpose() * flow_gradient_q(k, s, q);
   }
 
+  /// The cap surface's functions all at once, with kappa inverted once (the expressions of the
+  /// single functions above, so the same numbers); the envelope and the tension cut-off do not
+  /// need kappa and take the default.
+  void surface(int k, const Vec6& s, std::span<const double> q, plasticity::SurfaceDerivatives& d,
+               bool jacobian) const override {
+    if (k != cap) return plasticity::Model::surface(k, s, q, d, jacobian);
+    const Vec6 I = plasticity::identity();
+    const double J1 = J1c(s);
+    const double kap = c_.kappa_of_eps(q[0]);
+    const double a = std::max(J1 - kap, 0.0);
+    const double Q = std::sqrt(c_.R * c_.R * plasticity::j2(s) + a * a);
+    const bool flat = Q <= tiny();
+    d.f = Q - c_.R * c_.Fe(kap);
+    const Vec6 shat = plasticity::to_strain_like(plasticity::deviator(s));
+    const Vec6 n = flat ? Vec6(Vec6::Zero()) : Vec6((c_.R * c_.R * shat - 2.0 * a * I) / (2.0 * Q));
+    d.r = n;
+    d.h.resize(1);
+    d.h[0] = -I.dot(n);
+    if (!jacobian) return;
+    d.n = n;
+    d.xi.resize(1);
+    const double dkde = c_.dkappa_deps(q[0], kap);
+    d.xi[0] = ((Q > tiny() ? -a / Q : 0.0) - c_.R * c_.Fe1(kap)) * dkde;
+    if (flat) {
+      d.dr_ds.setZero();
+    } else {
+      Mat6 N = c_.R * c_.R * P_;
+      if (a > 0.0) N += 2.0 * (I * I.transpose());
+      d.dr_ds = N / (2.0 * Q) - n * n.transpose() / Q;
+    }
+    d.dr_dq = plasticity::MatX::Zero(6, 1);
+    if (!flat && a > 0.0) d.dr_dq.col(0) = (I / Q + n * (a / (Q * Q))) * dkde;
+    d.dh_ds.resize(1, 6);
+    d.dh_ds.row(0) = -plasticity::identity().transpose() * d.dr_ds;
+    d.dh_dq = -plasticity::identity().transpose() * d.dr_dq;
+  }
+
   /// eps_v^p below W (the cap at finite X) and kappa above the envelope's apex (F_e(kappa) > 0).
   [[nodiscard]] bool admissible(const Vec6& s, std::span<const double> q) const override {
     if (!s.allFinite() || !std::isfinite(q[0]) || !(q[0] < c_.W)) return false;

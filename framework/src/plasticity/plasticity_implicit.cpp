@@ -104,7 +104,35 @@ public:
     const double w_end = rule_ == Rule::trapezoidal ? a : 1.0; // weight of the end-point direction
     const double chain = rule_ == Rule::midpoint ? a : 1.0;    // d(point)/d(unknown)
 
-    for (int j = 0; j < na; ++j) {
+    // The closest point (trapezoidal, alpha = 1) needs every function at the end point (sigma, q):
+    // one Model::surface call per surface gives them (the same numbers as the single calls).
+    const bool closest = rule_ == Rule::trapezoidal && a == 1.0;
+    VecN<MaxN> fval(na);
+    Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, MaxN> nbar(6, na);
+    Mat xibar(nq, na);
+    for (int j = 0; j < na && closest; ++j) {
+      const int k = active[j];
+      c_.model.surface(k, sigma, cs(q), sd_, J != nullptr);
+      if (c_.counters) ++c_.counters->yield_evaluations;
+      fval[j] = sd_.f;
+      const Vec6 r = w_end * sd_.r;
+      const Vec h = w_end * sd_.h;
+      rbar.col(j) = r, hbar.col(j) = h;
+      eps_p += dl[j] * r;
+      dq += dl[j] * h;
+      if (J) {
+        const double w = dl[j] * w_end * chain;
+        deps_dsigma += w * sd_.dr_ds;
+        nbar.col(j) = sd_.n;
+        if (nq > 0) {
+          deps_dq += w * sd_.dr_dq;
+          ddq_dsigma += w * sd_.dh_ds;
+          ddq_dq += w * sd_.dh_dq;
+          xibar.col(j) = sd_.xi;
+        }
+      }
+    }
+    for (int j = 0; j < na && !closest; ++j) {
       const int k = active[j];
       const bool need_end = w_end > 0.0;
       Vec6 r = Vec6::Zero();
@@ -128,7 +156,7 @@ public:
     R.resize(n);
     R.template head<6>() = sigma - c_.elastic_update(sigma0_, q0_, e_el);
     R.segment(6, nq) = q - q0_ - dq;
-    for (int j = 0; j < na; ++j) R[6 + nq + j] = c_.f(active[j], sigma, q);
+    for (int j = 0; j < na; ++j) R[6 + nq + j] = closest ? fval[j] : c_.f(active[j], sigma, q);
 
     if (!J && !Te) return;
     const Mat6 T = c_.model.elastic_update_tangent(sigma0_, cs(q0_), e_el);
@@ -145,6 +173,11 @@ public:
       const int k = active[j];
       J->block(0, 6 + nq + j, 6, 1) = T * rbar.col(j);
       if (nq > 0) J->block(6, 6 + nq + j, nq, 1) = -hbar.col(j);
+      if (closest) {
+        J->block(6 + nq + j, 0, 1, 6) = nbar.col(j).transpose();
+        if (nq > 0) J->block(6 + nq + j, 6, 1, nq) = xibar.col(j).transpose();
+        continue;
+      }
       J->block(6 + nq + j, 0, 1, 6) = c_.model.yield_gradient(k, sigma, cs(q)).transpose();
       if (nq > 0) J->block(6 + nq + j, 6, 1, nq) = c_.model.yield_gradient_q(k, sigma, cs(q)).transpose();
     }
@@ -177,6 +210,7 @@ private:
   Vec q0_;
   Vec6 de_;
   std::vector<Gradients> start_;
+  mutable SurfaceDerivatives sd_; ///< work space of evaluate (its vectors keep their storage)
 };
 
 enum class NewtonStatus { converged, not_converged, singular, non_finite };

@@ -431,6 +431,35 @@ TEST_CASE("cap_sandler: analytic derivatives of the model match finite differenc
   }
 }
 
+TEST_CASE("cap_sandler: Model::surface gives the numbers of the single functions", "[cap]") {
+  // The closest-point return takes every function of a surface from one surface() call; the
+  // cap's override inverts kappa once and must reproduce the single functions bit for bit.
+  const cs::Model m(loess(0.0));
+  Vec6 s1, s2, s3;
+  s1 << -120, -260, -150, 30, -20, 15; // J1 = 530: J1 > kappa, on the elliptic part
+  s2 << -10, -12, -8, 3, -2, 1;        // J1 = 30: below kappa, the flat continuation
+  s3 << -200, -200, -200, 0, 0, 0;     // hydrostatic, sqrt(J2) = 0
+  for (const Vec6& s : {s1, s2, s3})
+    for (double eps : {0.0, 0.002, 0.012})
+      for (int k = 0; k < 3; ++k)
+        for (bool jac : {false, true}) {
+          INFO("surface " << k << " eps_v^p " << eps << " jacobian " << jac << " stress " << s.transpose());
+          const std::array<double, 1> q{eps};
+          pl::SurfaceDerivatives d;
+          m.surface(k, s, q, d, jac);
+          CHECK(d.f == m.yield(k, s, q));
+          CHECK(d.r == m.flow(k, s, q));
+          CHECK(d.h == m.hardening(k, s, q));
+          if (!jac) continue;
+          CHECK(d.n == m.yield_gradient(k, s, q));
+          CHECK(d.xi == m.yield_gradient_q(k, s, q));
+          CHECK(d.dr_ds == m.flow_gradient(k, s, q));
+          CHECK(d.dr_dq == m.flow_gradient_q(k, s, q));
+          CHECK(d.dh_ds == m.hardening_gradient(k, s, q));
+          CHECK(d.dh_dq == m.hardening_gradient_q(k, s, q));
+        }
+}
+
 TEST_CASE("cap_sandler: the closed-form cap inverse kappa(X) equals the root by bisection", "[cap]") {
   // kappa_of_X starts Newton at the Lambert-W closed form; the reference here is 200 bisections
   // of X(kappa) = Xv (X is increasing), independent of both. Tolerance: 1e-13 (1 + |kappa|),
