@@ -431,6 +431,31 @@ TEST_CASE("cap_sandler: analytic derivatives of the model match finite differenc
   }
 }
 
+TEST_CASE("cap_sandler: without want_tangent the same stress and history, the tangent untouched", "[cap]") {
+  // A residual-only evaluation (MaterialInput::want_tangent = false) skips the consistent
+  // tangent of the closest point; stress and history must be those of the full evaluation.
+  const Pair m(loess(0.0));
+  const Vec6 s0 = isotropic(100.0);
+  Vec6 cap_step = volumetric(-0.01), shear_step = Vec6::Zero(), elastic_step = volumetric(1e-6);
+  cap_step[3] = 0.002;
+  shear_step[3] = 0.02;
+  for (const Vec6& de : {cap_step, shear_step, elastic_step}) {
+    Point p(m.cp, s0);
+    Vec6 s1, s2, strain = Vec6::Zero();
+    std::array<double, 3> h1{}, h2{};
+    Mat6 T1 = Mat6::Zero(), T2 = Mat6::Constant(7.0);
+    const stratum::MaterialInput full{p.stress, strain, p.history, de, {}, true};
+    const stratum::MaterialInput residual{p.stress, strain, p.history, de, {}, false};
+    stratum::MaterialOutput o1{s1, h1, T1}, o2{s2, h2, T2};
+    REQUIRE(m.cp.update(full, o1).ok());
+    REQUIRE(m.cp.update(residual, o2).ok());
+    INFO("regime " << h1[2]);
+    CHECK(s1 == s2);
+    CHECK(h1 == h2);
+    if (h1[2] != 0.0) CHECK(T2 == Mat6::Constant(7.0)); // a plastic step leaves it as it was
+  }
+}
+
 TEST_CASE("cap_sandler: Model::surface gives the numbers of the single functions", "[cap]") {
   // The closest-point return takes every function of a surface from one surface() call; the
   // cap's override inverts kappa once and must reproduce the single functions bit for bit.
