@@ -359,10 +359,10 @@ public:
                                                             number(pressure(in.stress_n)) +
                                                             " kPa); Cam-Clay carries no tension");
     std::array<double, 1> xi{xi_n};
-    const plasticity::Result r =
-        plasticity::integrate(model_, settings_, in.stress_n, in.dstrain, out.stress, xi, out.tangent);
+    const plasticity::Result r = plasticity::integrate(model_, settings_, in.stress_n, in.dstrain, out.stress,
+                                                       xi, out.tangent, nullptr, in.want_tangent);
     if (!r.outcome.ok()) return Outcome::failure(r.outcome.status, where() + r.outcome.message);
-    if (!out.stress.allFinite() || !out.tangent.allFinite() || !std::isfinite(xi[0]))
+    if (!out.stress.allFinite() || (in.want_tangent && !out.tangent.allFinite()) || !std::isfinite(xi[0]))
       return Outcome::failure(Status::non_finite, where() + "the stress update produced NaN or Inf");
     // No tension: p must not be driven below p_min (a point that starts below p_min, e.g.
     // from a zero initial stress, may be compressed up through it).

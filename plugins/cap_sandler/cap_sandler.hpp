@@ -36,6 +36,7 @@
 #include "stratum/voigt.hpp"
 
 #include <Eigen/Core>
+#include <boost/math/special_functions/lambert_w.hpp>
 
 #include <algorithm>
 #include <array>
@@ -99,15 +100,27 @@ struct Constants {
     return hi;
   }
 
-  /// kappa with X(kappa) = Xv. X is increasing and concave in kappa: Newton from the left of
-  /// the root converges monotonically (every Newton step from the right lands on the left).
+  /// kappa with X(kappa) = Xv. X(kappa) = s kappa + R A - R C exp(-B kappa) with s = 1 + R theta,
+  /// so with b = Xv - R A and kappa = b / s + v: (B v) exp(B v) = z = (B R C / s) exp(-B b / s),
+  /// i.e. kappa = b / s + W0(z) / B with Lambert's W0 (z > 0). That closed form starts Newton on
+  /// X(kappa) = Xv, which takes it to round-off in one step (one exponential per step). Where z
+  /// overflows (kappa far beyond the envelope's apex, never admissible) Newton starts at
+  /// min(Xv, 0): X is increasing and concave, so Newton from the left of the root converges
+  /// monotonically (every Newton step from the right lands on the left). Newton stops when the
+  /// step is below 1e-14 (1 + |kappa|) or the residual is at the round-off of its terms (near
+  /// kappa = 0 the step cannot get below the first bound).
   [[nodiscard]] double kappa_of_X(double Xv) const {
+    const double s = 1.0 + R * theta, b = Xv - R * A;
+    const double z = (B * R * C / s) * std::exp(-B * b / s);
     double k = std::min(Xv, 0.0);
+    if (std::isfinite(z) && z < 1e300) k = b / s + boost::math::lambert_w0(z) / B;
     for (int it = 0; it < 200; ++it) {
-      const double g = X(k) - Xv;
-      const double dk = g / dX(k);
+      const double e = std::exp(-B * k);
+      const double g = k + R * (A - C * e + theta * k) - Xv; // X(k) - Xv
+      const double dk = g / (1.0 + R * (C * B * e + theta)); // / dX(k)
       k -= dk;
-      if (std::abs(dk) <= 1e-14 * (1.0 + std::abs(k))) break;
+      const double terms = std::abs(k) + R * (A + C * e + theta * std::abs(k)) + std::abs(Xv);
+      if (std::abs(dk) <= 1e-14 * (1.0 + std::abs(k)) || std::abs(g) <= 8.0 * 2.2e-16 * terms) break;
     }
     return k;
   }
@@ -261,6 +274,43 @@ public:
   [[nodiscard]] plasticity::MatX hardening_gradient_q(int k, const Vec6& s,
                                                       std::span<const double> q) const override {
     return -plasticity::identity().transpose() * flow_gradient_q(k, s, q);
+  }
+
+  /// The cap surface's functions all at once, with kappa inverted once (the expressions of the
+  /// single functions above, so the same numbers); the envelope and the tension cut-off do not
+  /// need kappa and take the default.
+  void surface(int k, const Vec6& s, std::span<const double> q, plasticity::SurfaceDerivatives& d,
+               bool jacobian) const override {
+    if (k != cap) return plasticity::Model::surface(k, s, q, d, jacobian);
+    const Vec6 I = plasticity::identity();
+    const double J1 = J1c(s);
+    const double kap = c_.kappa_of_eps(q[0]);
+    const double a = std::max(J1 - kap, 0.0);
+    const double Q = std::sqrt(c_.R * c_.R * plasticity::j2(s) + a * a);
+    const bool flat = Q <= tiny();
+    d.f = Q - c_.R * c_.Fe(kap);
+    const Vec6 shat = plasticity::to_strain_like(plasticity::deviator(s));
+    const Vec6 n = flat ? Vec6(Vec6::Zero()) : Vec6((c_.R * c_.R * shat - 2.0 * a * I) / (2.0 * Q));
+    d.r = n;
+    d.h.resize(1);
+    d.h[0] = -I.dot(n);
+    if (!jacobian) return;
+    d.n = n;
+    d.xi.resize(1);
+    const double dkde = c_.dkappa_deps(q[0], kap);
+    d.xi[0] = ((Q > tiny() ? -a / Q : 0.0) - c_.R * c_.Fe1(kap)) * dkde;
+    if (flat) {
+      d.dr_ds.setZero();
+    } else {
+      Mat6 N = c_.R * c_.R * P_;
+      if (a > 0.0) N += 2.0 * (I * I.transpose());
+      d.dr_ds = N / (2.0 * Q) - n * n.transpose() / Q;
+    }
+    d.dr_dq = plasticity::MatX::Zero(6, 1);
+    if (!flat && a > 0.0) d.dr_dq.col(0) = (I / Q + n * (a / (Q * Q))) * dkde;
+    d.dh_ds.resize(1, 6);
+    d.dh_ds.row(0) = -plasticity::identity().transpose() * d.dr_ds;
+    d.dh_dq = -plasticity::identity().transpose() * d.dr_dq;
   }
 
   /// eps_v^p below W (the cap at finite X) and kappa above the envelope's apex (F_e(kappa) > 0).
@@ -516,21 +566,21 @@ public:
       regime = r.regime;
       if (regime == Regime::elastic) {
         out.tangent = model_.elastic(out.stress, {});
-      } else {
+      } else if (in.want_tangent) {
         const std::array<double, 1> q{c.eps_of_kappa(kappa)};
         out.tangent = plasticity::continuum_tangent(model_, out.stress, q, r.active);
       }
     } else {
       std::array<double, 1> q{c.eps_of_kappa(kappa_n)};
-      const plasticity::Result r =
-          plasticity::integrate(model_, settings_, in.stress_n, in.dstrain, out.stress, q, out.tangent);
+      const plasticity::Result r = plasticity::integrate(
+          model_, settings_, in.stress_n, in.dstrain, out.stress, q, out.tangent, nullptr, in.want_tangent);
       if (!r.outcome.ok()) return Outcome::failure(r.outcome.status, where() + r.outcome.message);
       if (r.plastic) {
         kappa = c.kappa_of_eps(q[0]);
         regime = classify(out.stress, q);
       }
     }
-    if (!out.stress.allFinite() || !out.tangent.allFinite() || !std::isfinite(kappa))
+    if (!out.stress.allFinite() || (in.want_tangent && !out.tangent.allFinite()) || !std::isfinite(kappa))
       return Outcome::failure(Status::non_finite, where() + "the stress update produced NaN or Inf");
     if (!(c.eps_of_kappa(kappa) < c.W))
       return Outcome::failure(Status::material_failure,

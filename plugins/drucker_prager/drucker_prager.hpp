@@ -295,11 +295,11 @@ public:
       return Outcome::success();
     }
     std::array<double, 1> q{q_n};
-    const plasticity::Result r =
-        plasticity::integrate(model_, settings_, in.stress_n, in.dstrain, out.stress, q, out.tangent);
+    const plasticity::Result r = plasticity::integrate(model_, settings_, in.stress_n, in.dstrain, out.stress,
+                                                       q, out.tangent, nullptr, in.want_tangent);
     if (!r.outcome.ok())
       return Outcome::failure(r.outcome.status, "drucker_prager: " + r.outcome.message + where());
-    if (!out.stress.allFinite() || !out.tangent.allFinite())
+    if (!out.stress.allFinite() || (in.want_tangent && !out.tangent.allFinite()))
       return Outcome::failure(Status::non_finite, "drucker_prager: non-finite stress or tangent" + where());
     out.history[0] = q[0];
     return Outcome::success();

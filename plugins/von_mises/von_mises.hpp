@@ -143,8 +143,8 @@ public:
 
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
     double q[1] = {in.history_n.empty() ? 0.0 : in.history_n[0]};
-    const plasticity::Result r =
-        plasticity::integrate(model_, settings_, in.stress_n, in.dstrain, out.stress, q, out.tangent);
+    const plasticity::Result r = plasticity::integrate(model_, settings_, in.stress_n, in.dstrain, out.stress,
+                                                       q, out.tangent, nullptr, in.want_tangent);
     if (!out.history.empty()) out.history[0] = q[0];
     if (r.outcome.ok()) return r.outcome;
     return Outcome::failure(r.outcome.status, "von_mises (element " + std::to_string(in.where.element) +

@@ -68,8 +68,11 @@ namespace {
 // midpoint:    rbar = r((1 - alpha) sigma0 + alpha sigma, (1 - alpha) q0 + alpha q)  ((4.33)-(4.34))
 // and the same for hbar.
 
-class ImplicitSystem {
+template <int MaxN> class ImplicitSystem {
 public:
+  using Vec = VecN<MaxN>;
+  using Mat = MatN<MaxN>;
+
   ImplicitSystem(const Context& c, Rule rule, double alpha, const Vec6& sigma0, const VecX& q0,
                  const Vec6& de)
       : c_(c), rule_(rule), alpha_(alpha), sigma0_(sigma0), q0_(q0), de_(de) {
@@ -81,35 +84,62 @@ public:
 
   /// Residual and (when J is given) Jacobian at x for the active surfaces; also the elastic
   /// tangent d elastic_update / d de at the converged elastic strain (for the consistent tangent).
-  void evaluate(const VecX& x, const std::vector<int>& active, VecX& R, MatX* J, Mat6* Te = nullptr) const {
+  void evaluate(const Vec& x, const std::vector<int>& active, Vec& R, Mat* J, Mat6* Te = nullptr) const {
     const int nq = c_.nq, na = static_cast<int>(active.size()), n = size(na);
-    const Vec6 sigma = x.head<6>();
-    const VecX q = x.segment(6, nq);
-    const VecX dl = x.tail(na);
+    const Vec6 sigma = x.template head<6>();
+    const Vec q = x.segment(6, nq);
+    const Vec dl = x.tail(na);
     const double a = alpha_;
 
     Vec6 eps_p = Vec6::Zero();
-    VecX dq = VecX::Zero(nq);
+    Vec dq = Vec::Zero(nq);
     Mat6 deps_dsigma = Mat6::Zero();
-    MatX deps_dq = MatX::Zero(6, nq), ddq_dsigma = MatX::Zero(nq, 6), ddq_dq = MatX::Zero(nq, nq);
-    std::vector<Vec6> rbar(na);
-    std::vector<VecX> hbar(na);
+    Mat deps_dq = Mat::Zero(6, nq), ddq_dsigma = Mat::Zero(nq, 6), ddq_dq = Mat::Zero(nq, nq);
+    Mat rbar(6, na), hbar(nq, na); // the directions of the active surfaces, by column
 
     // where r and h of the end point are evaluated, and the chain factor d(point)/d(sigma, q)
     Vec6 sp = sigma;
-    VecX qp = q;
+    Vec qp = q;
     if (rule_ == Rule::midpoint) sp = (1.0 - a) * sigma0_ + a * sigma, qp = (1.0 - a) * q0_ + a * q;
     const double w_end = rule_ == Rule::trapezoidal ? a : 1.0; // weight of the end-point direction
     const double chain = rule_ == Rule::midpoint ? a : 1.0;    // d(point)/d(unknown)
 
-    for (int j = 0; j < na; ++j) {
+    // The closest point (trapezoidal, alpha = 1) needs every function at the end point (sigma, q):
+    // one Model::surface call per surface gives them (the same numbers as the single calls).
+    const bool closest = rule_ == Rule::trapezoidal && a == 1.0;
+    VecN<MaxN> fval(na);
+    Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, MaxN> nbar(6, na);
+    Mat xibar(nq, na);
+    for (int j = 0; j < na && closest; ++j) {
+      const int k = active[j];
+      c_.model.surface(k, sigma, cs(q), sd_, J != nullptr);
+      if (c_.counters) ++c_.counters->yield_evaluations;
+      fval[j] = sd_.f;
+      const Vec6 r = w_end * sd_.r;
+      const Vec h = w_end * sd_.h;
+      rbar.col(j) = r, hbar.col(j) = h;
+      eps_p += dl[j] * r;
+      dq += dl[j] * h;
+      if (J) {
+        const double w = dl[j] * w_end * chain;
+        deps_dsigma += w * sd_.dr_ds;
+        nbar.col(j) = sd_.n;
+        if (nq > 0) {
+          deps_dq += w * sd_.dr_dq;
+          ddq_dsigma += w * sd_.dh_ds;
+          ddq_dq += w * sd_.dh_dq;
+          xibar.col(j) = sd_.xi;
+        }
+      }
+    }
+    for (int j = 0; j < na && !closest; ++j) {
       const int k = active[j];
       const bool need_end = w_end > 0.0;
       Vec6 r = Vec6::Zero();
-      VecX h = VecX::Zero(nq);
+      Vec h = Vec::Zero(nq);
       if (need_end) r = w_end * c_.model.flow(k, sp, cs(qp)), h = w_end * c_.model.hardening(k, sp, cs(qp));
       if (rule_ == Rule::trapezoidal && a < 1.0) r += (1.0 - a) * start_[k].r, h += (1.0 - a) * start_[k].h;
-      rbar[j] = r, hbar[j] = h;
+      rbar.col(j) = r, hbar.col(j) = h;
       eps_p += dl[j] * r;
       dq += dl[j] * h;
       if (J && need_end && chain > 0.0) {
@@ -124,45 +154,50 @@ public:
     }
     const Vec6 e_el = de_ - eps_p;
     R.resize(n);
-    R.head<6>() = sigma - c_.elastic_update(sigma0_, q0_, e_el);
+    R.template head<6>() = sigma - c_.elastic_update(sigma0_, q0_, e_el);
     R.segment(6, nq) = q - q0_ - dq;
-    for (int j = 0; j < na; ++j) R[6 + nq + j] = c_.f(active[j], sigma, q);
+    for (int j = 0; j < na; ++j) R[6 + nq + j] = closest ? fval[j] : c_.f(active[j], sigma, q);
 
     if (!J && !Te) return;
     const Mat6 T = c_.model.elastic_update_tangent(sigma0_, cs(q0_), e_el);
     if (Te) *Te = T;
     if (!J) return;
     J->setZero(n, n);
-    J->block<6, 6>(0, 0) = Mat6::Identity() + T * deps_dsigma;
+    J->template block<6, 6>(0, 0) = Mat6::Identity() + T * deps_dsigma;
     if (nq > 0) {
       J->block(0, 6, 6, nq) = T * deps_dq;
       J->block(6, 0, nq, 6) = -ddq_dsigma;
-      J->block(6, 6, nq, nq) = MatX::Identity(nq, nq) - ddq_dq;
+      J->block(6, 6, nq, nq) = Mat::Identity(nq, nq) - ddq_dq;
     }
     for (int j = 0; j < na; ++j) {
       const int k = active[j];
-      J->block(0, 6 + nq + j, 6, 1) = T * rbar[j];
-      if (nq > 0) J->block(6, 6 + nq + j, nq, 1) = -hbar[j];
+      J->block(0, 6 + nq + j, 6, 1) = T * rbar.col(j);
+      if (nq > 0) J->block(6, 6 + nq + j, nq, 1) = -hbar.col(j);
+      if (closest) {
+        J->block(6 + nq + j, 0, 1, 6) = nbar.col(j).transpose();
+        if (nq > 0) J->block(6 + nq + j, 6, 1, nq) = xibar.col(j).transpose();
+        continue;
+      }
       J->block(6 + nq + j, 0, 1, 6) = c_.model.yield_gradient(k, sigma, cs(q)).transpose();
       if (nq > 0) J->block(6 + nq + j, 6, 1, nq) = c_.model.yield_gradient_q(k, sigma, cs(q)).transpose();
     }
   }
 
   /// Per-residual tolerances at x.
-  [[nodiscard]] VecX tolerances(const VecX& x, int na) const {
-    const Vec6 sigma = x.head<6>();
-    const VecX q = x.segment(6, c_.nq);
+  [[nodiscard]] Vec tolerances(const Vec& x, int na) const {
+    const Vec6 sigma = x.template head<6>();
+    const Vec q = x.segment(6, c_.nq);
     const double tol = c_.tol(sigma, q);
-    VecX t(size(na));
-    t.head<6>().setConstant(tol);
+    Vec t(size(na));
+    t.template head<6>().setConstant(tol);
     if (c_.nq > 0) t.segment(6, c_.nq) = c_.settings.ftol * c_.q_scale(sigma, q, q0_, 0.0);
     t.tail(na).setConstant(tol);
     return t;
   }
 
-  [[nodiscard]] VecX start(int na) const {
-    VecX x = VecX::Zero(size(na));
-    x.head<6>() = c_.elastic_update(sigma0_, q0_, de_);
+  [[nodiscard]] Vec start(int na) const {
+    Vec x = Vec::Zero(size(na));
+    x.template head<6>() = c_.elastic_update(sigma0_, q0_, de_);
     x.segment(6, c_.nq) = q0_;
     return x;
   }
@@ -172,9 +207,10 @@ private:
   Rule rule_;
   double alpha_;
   Vec6 sigma0_;
-  VecX q0_;
+  Vec q0_;
   Vec6 de_;
   std::vector<Gradients> start_;
+  mutable SurfaceDerivatives sd_; ///< work space of evaluate (its vectors keep their storage)
 };
 
 enum class NewtonStatus { converged, not_converged, singular, non_finite };
@@ -189,14 +225,18 @@ struct NewtonResult {
 };
 
 /// Newton with backtracking on the tolerance-weighted residual norm.
-NewtonResult newton(const Context& c, const ImplicitSystem& sys, const std::vector<int>& active, VecX& x) {
+template <int MaxN>
+NewtonResult newton(const Context& c, const ImplicitSystem<MaxN>& sys, const std::vector<int>& active,
+                    VecN<MaxN>& x) {
+  using Vec = VecN<MaxN>;
+  using Mat = MatN<MaxN>;
   const int na = static_cast<int>(active.size());
   NewtonResult out;
-  auto merit = [](const VecX& r, const VecX& t) { return r.cwiseQuotient(t).squaredNorm(); };
-  VecX R;
-  MatX J;
+  auto merit = [](const Vec& r, const Vec& t) { return r.cwiseQuotient(t).squaredNorm(); };
+  Vec R;
+  Mat J;
   sys.evaluate(x, active, R, &J);
-  VecX tol = sys.tolerances(x, na);
+  Vec tol = sys.tolerances(x, na);
   for (int it = 0;; ++it) {
     if (!R.allFinite() || !J.allFinite()) {
       out.status = NewtonStatus::non_finite;
@@ -218,30 +258,35 @@ NewtonResult newton(const Context& c, const ImplicitSystem& sys, const std::vect
                                        : "yield function of surface " + std::to_string(active[wi - 6 - c.nq]);
       return out;
     }
-    ScaledLU lu;
+    ScaledLU<MaxN> lu;
     if (!lu.factor(J)) {
       out.status = NewtonStatus::singular;
       return out;
     }
     ++out.iterations;
     if (c.counters) ++c.counters->iterations;
-    const VecX dx = lu.solve(-R);
-    // Full step unless it increases the weighted residual; then halve (at most 6 times).
+    const Vec dx = lu.solve(-R);
+    // Full step unless it increases the weighted residual; then halve (at most 6 times). The
+    // full step is evaluated with its Jacobian, which the next iteration uses when it is taken.
     const double m0 = merit(R, tol);
-    VecX xt = x + dx, Rt;
-    sys.evaluate(xt, active, Rt, nullptr);
-    if (!(Rt.allFinite() && merit(Rt, sys.tolerances(xt, na)) < m0)) {
-      double step = 1.0;
-      for (int ls = 0; ls < 6; ++ls) {
-        step *= 0.5;
-        const VecX xs = x + step * dx;
-        sys.evaluate(xs, active, Rt, nullptr);
-        if (Rt.allFinite() && merit(Rt, sys.tolerances(xs, na)) < m0) {
-          xt = xs;
-          break;
-        }
-      } // no decrease found: keep the full Newton step
+    Vec xt = x + dx, Rt;
+    Mat Jt;
+    sys.evaluate(xt, active, Rt, &Jt);
+    Vec tolt = sys.tolerances(xt, na);
+    if (Rt.allFinite() && merit(Rt, tolt) < m0) {
+      x = xt, R = Rt, J = Jt, tol = tolt;
+      continue;
     }
+    double step = 1.0;
+    for (int ls = 0; ls < 6; ++ls) {
+      step *= 0.5;
+      const Vec xs = x + step * dx;
+      sys.evaluate(xs, active, Rt, nullptr);
+      if (Rt.allFinite() && merit(Rt, sys.tolerances(xs, na)) < m0) {
+        xt = xs;
+        break;
+      }
+    } // no decrease found: keep the full Newton step
     x = xt;
     sys.evaluate(x, active, R, &J);
     tol = sys.tolerances(x, na);
@@ -256,20 +301,21 @@ std::string set_str(const std::vector<int>& s) {
 
 /// Converged state of the implicit system on one fixed active set, if admissible: non-negative
 /// multipliers and no inactive surface violated.
-bool admissible_on(const Context& c, const ImplicitSystem& sys, const std::vector<int>& active, VecX& x) {
+template <int MaxN>
+bool admissible_on(const Context& c, const ImplicitSystem<MaxN>& sys, const std::vector<int>& active,
+                   VecN<MaxN>& x) {
+  using Vec = VecN<MaxN>;
   const int na = static_cast<int>(active.size());
   x = sys.start(na);
   if (newton(c, sys, active, x).status != NewtonStatus::converged) return false;
   if (na > 0 && x.tail(na).minCoeff() < 0.0) return false;
-  const Vec6 sigma = x.head<6>();
-  const VecX q = x.segment(6, c.nq);
+  const Vec6 sigma = x.template head<6>();
+  const Vec q = x.segment(6, c.nq);
   const double tol = c.tol(sigma, q);
   for (int k = 0; k < c.m; ++k)
     if (std::find(active.begin(), active.end(), k) == active.end() && c.f(k, sigma, q) > tol) return false;
   return true;
 }
-
-} // namespace
 
 /// Implicit integration with the active-set strategy: start with the surfaces violated by the
 /// elastic trial, drop the surface with the most negative multiplier, add the most violated
@@ -279,9 +325,12 @@ bool admissible_on(const Context& c, const ImplicitSystem& sys, const std::vecto
 /// admissible solution is taken (for a convex elastic domain and associated flow it is the
 /// closest point). Returns the converged state; with `consistent` the algorithmic tangent
 /// d sigma / d de from the linearized residual system.
-Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, const VecX& q0,
-                 const Vec6& de, bool consistent, State& st) {
-  const ImplicitSystem sys(c, rule, alpha, sigma0, q0, de);
+template <int MaxN>
+Outcome implicit_n(const Context& c, Rule rule, double alpha, const Vec6& sigma0, const VecX& q0,
+                   const Vec6& de, bool consistent, State& st) {
+  using Vec = VecN<MaxN>;
+  using Mat = MatN<MaxN>;
+  const ImplicitSystem<MaxN> sys(c, rule, alpha, sigma0, q0, de);
   const Vec6 trial = c.elastic_update(sigma0, q0, de);
   const double tol_trial = c.tol(trial, q0);
   const VecX f_trial = c.fall(trial, q0);
@@ -296,7 +345,7 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
   }
 
   // Every non-empty set of surfaces, smallest first; the first admissible solution.
-  auto exhaustive = [&](const std::string& why, VecX& x) -> Outcome {
+  auto exhaustive = [&](const std::string& why, Vec& x) -> Outcome {
     if (c.m > 12) return fail(c, Status::material_failure, why);
     std::vector<std::vector<int>> sets;
     for (unsigned mask = 1; mask < (1u << c.m); ++mask) {
@@ -318,7 +367,7 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
   std::set<std::vector<int>> seen;
   const int max_changes = 4 * c.m + 4;
   int total_iterations = 0;
-  VecX x;
+  Vec x;
   for (int change = 0;; ++change) {
     std::vector<int> key = active;
     std::sort(key.begin(), key.end());
@@ -359,7 +408,7 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
       break;
     }
 
-    const VecX dl = x.tail(na);
+    const Vec dl = x.tail(na);
     Eigen::Index worst = 0;
     if (dl.minCoeff(&worst) < 0.0 && na > 0) {
       active.erase(active.begin() + worst);
@@ -367,8 +416,8 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
         return fail(c, Status::material_failure, "all plastic multipliers negative (no admissible return)");
       continue;
     }
-    const Vec6 sigma = x.head<6>();
-    const VecX q = x.segment(6, c.nq);
+    const Vec6 sigma = x.template head<6>();
+    const Vec q = x.segment(6, c.nq);
     const double tol = c.tol(sigma, q);
     int add = -1;
     double fadd = tol;
@@ -381,22 +430,36 @@ Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, 
     active.push_back(add);
   }
 
-  st.sigma = x.head<6>(), st.q = x.segment(6, c.nq), st.active = active;
+  st.sigma = x.template head<6>(), st.q = x.segment(6, c.nq), st.active = active;
   if (consistent) {
     // sigma(de) from R(x(de); de) = 0: dx/dde = -J^-1 dR/dde, dR/dde = [-T_e; 0; 0].
-    VecX R;
-    MatX J;
+    Vec R;
+    Mat J;
     Mat6 Te;
     sys.evaluate(x, active, R, &J, &Te);
-    ScaledLU lu;
+    ScaledLU<MaxN> lu;
     if (!lu.factor(J))
       return fail(c, Status::material_failure, "singular local Jacobian for the consistent tangent");
-    MatX B = MatX::Zero(J.rows(), 6);
+    Eigen::Matrix<double, Eigen::Dynamic, 6, 0, MaxN, 6> B =
+        Eigen::Matrix<double, Eigen::Dynamic, 6, 0, MaxN, 6>::Zero(J.rows(), 6);
     B.topRows(6) = Te;
     st.tangent = lu.solve(B).topRows(6);
     st.has_tangent = true;
   }
   return Outcome::success();
+}
+
+/// Systems of up to this size (6 stresses, internal variables and multipliers; the models of
+/// the repository need at most 13) are solved with matrices stored in place, larger ones on the heap.
+constexpr int max_fixed_size = 16;
+
+} // namespace
+
+Outcome implicit(const Context& c, Rule rule, double alpha, const Vec6& sigma0, const VecX& q0,
+                 const Vec6& de, bool consistent, State& st) {
+  if (6 + c.nq + c.m <= max_fixed_size)
+    return implicit_n<max_fixed_size>(c, rule, alpha, sigma0, q0, de, consistent, st);
+  return implicit_n<Eigen::Dynamic>(c, rule, alpha, sigma0, q0, de, consistent, st);
 }
 
 } // namespace stratum::plasticity::detail

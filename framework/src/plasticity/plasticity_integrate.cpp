@@ -155,7 +155,7 @@ Mat6 continuum_tangent(const Model& model, const Vec6& sigma, std::span<const do
 }
 
 Result integrate(const Model& model, const Settings& settings, const Vec6& sigma_n, const Vec6& de,
-                 Vec6& sigma, std::span<double> q, Mat6& tangent, Counters* counters) {
+                 Vec6& sigma, std::span<double> q, Mat6& tangent, Counters* counters, bool want_tangent) {
   const Context c(model, settings, counters);
   Result result;
   VecX q_n(c.nq);
@@ -202,7 +202,7 @@ Result integrate(const Model& model, const Settings& settings, const Vec6& sigma
     o = cutting_plane(c, trial, q_n, st);
     break;
   case Scheme::closest_point:
-    o = implicit(c, Rule::trapezoidal, 1.0, sigma_n, q_n, de, true, st);
+    o = implicit(c, Rule::trapezoidal, 1.0, sigma_n, q_n, de, want_tangent, st);
     break;
   case Scheme::trapezoidal:
   case Scheme::midpoint: {
@@ -220,15 +220,17 @@ Result integrate(const Model& model, const Settings& settings, const Vec6& sigma
 
   if (!st.sigma.allFinite() || !st.q.allFinite())
     return failed(fail(c, Status::non_finite, "NaN or Inf in the integrated state"));
-  if (!st.has_tangent) st.tangent = continuum(c, st.sigma, st.q, st.active);
-  if (!st.tangent.allFinite()) return failed(fail(c, Status::non_finite, "NaN or Inf in the tangent"));
+  if (want_tangent) {
+    if (!st.has_tangent) st.tangent = continuum(c, st.sigma, st.q, st.active);
+    if (!st.tangent.allFinite()) return failed(fail(c, Status::non_finite, "NaN or Inf in the tangent"));
+  }
   if (!model.admissible(st.sigma, cs(st.q)))
     return failed(
         fail(c, Status::material_failure, "inadmissible state (internal variables) at the end of the step"));
 
   sigma = st.sigma;
   for (int i = 0; i < c.nq; ++i) q[static_cast<std::size_t>(i)] = st.q[i];
-  tangent = st.tangent;
+  if (want_tangent) tangent = st.tangent;
   result.plastic = true;
   return result;
 }

@@ -431,6 +431,90 @@ TEST_CASE("cap_sandler: analytic derivatives of the model match finite differenc
   }
 }
 
+TEST_CASE("cap_sandler: without want_tangent the same stress and history, the tangent untouched", "[cap]") {
+  // A residual-only evaluation (MaterialInput::want_tangent = false) skips the consistent
+  // tangent of the closest point; stress and history must be those of the full evaluation.
+  const Pair m(loess(0.0));
+  const Vec6 s0 = isotropic(100.0);
+  Vec6 cap_step = volumetric(-0.01), shear_step = Vec6::Zero(), elastic_step = volumetric(1e-6);
+  cap_step[3] = 0.002;
+  shear_step[3] = 0.02;
+  for (const Vec6& de : {cap_step, shear_step, elastic_step}) {
+    Point p(m.cp, s0);
+    Vec6 s1, s2, strain = Vec6::Zero();
+    std::array<double, 3> h1{}, h2{};
+    Mat6 T1 = Mat6::Zero(), T2 = Mat6::Constant(7.0);
+    const stratum::MaterialInput full{p.stress, strain, p.history, de, {}, true};
+    const stratum::MaterialInput residual{p.stress, strain, p.history, de, {}, false};
+    stratum::MaterialOutput o1{s1, h1, T1}, o2{s2, h2, T2};
+    REQUIRE(m.cp.update(full, o1).ok());
+    REQUIRE(m.cp.update(residual, o2).ok());
+    INFO("regime " << h1[2]);
+    CHECK(s1 == s2);
+    CHECK(h1 == h2);
+    if (h1[2] != 0.0) CHECK(T2 == Mat6::Constant(7.0)); // a plastic step leaves it as it was
+  }
+}
+
+TEST_CASE("cap_sandler: Model::surface gives the numbers of the single functions", "[cap]") {
+  // The closest-point return takes every function of a surface from one surface() call; the
+  // cap's override inverts kappa once and must reproduce the single functions bit for bit.
+  const cs::Model m(loess(0.0));
+  Vec6 s1, s2, s3;
+  s1 << -120, -260, -150, 30, -20, 15; // J1 = 530: J1 > kappa, on the elliptic part
+  s2 << -10, -12, -8, 3, -2, 1;        // J1 = 30: below kappa, the flat continuation
+  s3 << -200, -200, -200, 0, 0, 0;     // hydrostatic, sqrt(J2) = 0
+  for (const Vec6& s : {s1, s2, s3})
+    for (double eps : {0.0, 0.002, 0.012})
+      for (int k = 0; k < 3; ++k)
+        for (bool jac : {false, true}) {
+          INFO("surface " << k << " eps_v^p " << eps << " jacobian " << jac << " stress " << s.transpose());
+          const std::array<double, 1> q{eps};
+          pl::SurfaceDerivatives d;
+          m.surface(k, s, q, d, jac);
+          CHECK(d.f == m.yield(k, s, q));
+          CHECK(d.r == m.flow(k, s, q));
+          CHECK(d.h == m.hardening(k, s, q));
+          if (!jac) continue;
+          CHECK(d.n == m.yield_gradient(k, s, q));
+          CHECK(d.xi == m.yield_gradient_q(k, s, q));
+          CHECK(d.dr_ds == m.flow_gradient(k, s, q));
+          CHECK(d.dr_dq == m.flow_gradient_q(k, s, q));
+          CHECK(d.dh_ds == m.hardening_gradient(k, s, q));
+          CHECK(d.dh_dq == m.hardening_gradient_q(k, s, q));
+        }
+}
+
+TEST_CASE("cap_sandler: the closed-form cap inverse kappa(X) equals the root by bisection", "[cap]") {
+  // kappa_of_X starts Newton at the Lambert-W closed form; the reference here is 200 bisections
+  // of X(kappa) = Xv (X is increasing), independent of both. Tolerance: 1e-13 (1 + |kappa|),
+  // the round-off of X's terms (R A = 475 kPa) divided by dX/dkappa >= 1. Includes kappa near
+  // 0, where the old stopping rule alone cycled at round-off, and a linear envelope term theta.
+  for (double theta : {0.0, 0.05}) {
+    cs::Constants c = loess(0.0);
+    c.theta = theta;
+    const double apex = c.envelope_apex();
+    for (double kappa :
+         {apex + 1e-3, -300.0, -137.0, -1.0, -1e-9, 0.0, 1e-9, 0.5, 37.0, 250.0, 1.0e3, 2.5e4, 3.0e6}) {
+      const double Xv = c.X(kappa);
+      double lo = apex - 1.0, hi = Xv + 1.0;
+      for (int it = 0; it < 200; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (c.X(mid) < Xv ? lo : hi) = mid;
+      }
+      const double k = c.kappa_of_X(Xv);
+      INFO("theta " << theta << " kappa " << kappa << " X " << Xv << " got " << k << " bisection " << lo);
+      CHECK(std::abs(k - 0.5 * (lo + hi)) <= 1e-13 * (1.0 + std::abs(k)));
+      CHECK(std::abs(k - kappa) <= 1e-12 * (1.0 + std::abs(kappa)));
+      // and through the hardening law: eps -> kappa -> eps
+      if (kappa > -300.0 && kappa < 3.0e3) {
+        const double e = c.eps_of_kappa(kappa);
+        CHECK(c.eps_of_kappa(c.kappa_of_eps(e)) == Approx(e).epsilon(1e-12).margin(1e-18));
+      }
+    }
+  }
+}
+
 TEST_CASE("cap_sandler: closest-point consistent tangent matches finite differences", "[cap]") {
   const cs::Constants c = loess(0.0);
   const cs::CapSandler m(c, cs::Integration::closest_point);

@@ -58,10 +58,13 @@ struct Result {
 };
 
 /// Integrates the model over the strain increment de.
-/// q has internal_size entries on entry (q_n) and exit (q_{n+1}).
+/// q has internal_size entries on entry (q_n) and exit (q_{n+1}). With want_tangent = false
+/// (a residual-only evaluation, MaterialInput::want_tangent) a plastic step leaves `tangent` as
+/// it is and skips its cost (the closest point's consistent tangent, the others' continuum one);
+/// stress and q are the same either way.
 [[nodiscard]] Result integrate(const Model& model, const Settings& settings, const Vec6& sigma_n,
                                const Vec6& de, Vec6& sigma, std::span<double> q, Mat6& tangent,
-                               Counters* counters = nullptr);
+                               Counters* counters = nullptr, bool want_tangent = true);
 
 /// The continuum elastoplastic tangent with the given active surfaces (thesis (2.69)-(2.73)).
 [[nodiscard]] Mat6 continuum_tangent(const Model& model, const Vec6& sigma, std::span<const double> q,

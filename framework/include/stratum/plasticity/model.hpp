@@ -31,6 +31,18 @@ namespace stratum::plasticity {
 using VecX = Eigen::VectorXd;
 using MatX = Eigen::MatrixXd;
 
+/// What the closest-point return needs of one surface at one state (Model::surface).
+struct SurfaceDerivatives {
+  double f = 0.0; ///< yield
+  Vec6 r;         ///< flow direction
+  VecX h;         ///< hardening direction
+  // with `jacobian` only:
+  Vec6 n;                   ///< yield gradient
+  VecX xi;                  ///< d f / d q
+  Mat6 dr_ds;               ///< d r / d sigma
+  MatX dr_dq, dh_ds, dh_dq; ///< d r / d q, d h / d sigma, d h / d q (left empty when internal_size() = 0)
+};
+
 class Model {
 public:
   virtual ~Model() = default;
@@ -80,6 +92,25 @@ public:
   /// d h_k / d q (internal_size x internal_size).
   [[nodiscard]] virtual MatX hardening_gradient_q(int k, const Vec6& sigma,
                                                   std::span<const double> q) const = 0;
+
+  /// All of surface k at once: f, r and h, and with `jacobian` also n, xi and the four second
+  /// derivatives; the values equal those of the single functions above. The default calls them
+  /// one by one; a model whose functions share costly work (an inverted hardening law, say)
+  /// overrides it to do that work once.
+  virtual void surface(int k, const Vec6& sigma, std::span<const double> q, SurfaceDerivatives& d,
+                       bool jacobian) const {
+    d.f = yield(k, sigma, q);
+    d.r = flow(k, sigma, q);
+    d.h = hardening(k, sigma, q);
+    if (!jacobian) return;
+    d.n = yield_gradient(k, sigma, q);
+    d.dr_ds = flow_gradient(k, sigma, q);
+    if (internal_size() == 0) return;
+    d.xi = yield_gradient_q(k, sigma, q);
+    d.dr_dq = flow_gradient_q(k, sigma, q);
+    d.dh_ds = hardening_gradient(k, sigma, q);
+    d.dh_dq = hardening_gradient_q(k, sigma, q);
+  }
 
   /// Whether internal variables are admissible (e.g. p_c > 0); integrators fail cleanly otherwise.
   [[nodiscard]] virtual bool admissible(const Vec6& /*sigma*/, std::span<const double> /*q*/) const {
