@@ -121,6 +121,22 @@ TEST_CASE("cli: the VTK series carries field data per step, strictly increasing 
   CHECK(value(fd, "time") == Approx(3.0 + value(fd, "load_factor")).epsilon(1e-12));
   CHECK(value(fd, "head_load_kN") == Approx(load).epsilon(1e-9));
   CHECK(value(fd, "head_settlement_mm") == Approx(settlement).epsilon(1e-9));
+  // Every load's current value: the head load ramps with the stage (its resultant is the head
+  // load, y up), the pile's weight and the soil's self-weight stay on in full; the pile's weight
+  // is gamma_c L pi r^2 = 24 x 3 x pi x 0.135^2 kN.
+  CHECK(value(fd, "load.head.fraction") == value(fd, "load_factor"));
+  CHECK(value(fd, "load.head.Fy_kN") == Approx(-load).epsilon(1e-9));
+  CHECK(value(fd, "load.pile_weight.fraction") == 1.0);
+  CHECK(value(fd, "load.pile_weight.Fy_kN") == Approx(-24.0 * 3.0 * M_PI * 0.135 * 0.135).epsilon(1e-9));
+  CHECK(value(fd, "load.self_weight.fraction") == 1.0);
+  CHECK(fd->GetArray("load.fresh_concrete.fraction") == nullptr); // removed in the stage before
+  // During boring the fresh-concrete pressure ramps in with the stage's load factor.
+  for (const auto& [t, file] : sets)
+    if (t > 1.01 && t < 2.0) { // 1.000001: the geostatic state once more (strictly increasing times)
+      const auto b = read(file);
+      CHECK(value(b->GetFieldData(), "load.fresh_concrete.fraction") == Approx(t - 1.0).epsilon(1e-12));
+      CHECK(value(b->GetFieldData(), "load.self_weight.fraction") == 1.0);
+    }
   // The first data set is the initial state: no stage yet, no head load.
   const auto first = read(sets.front().second);
   auto* stage0 = vtkStringArray::SafeDownCast(first->GetFieldData()->GetAbstractArray("stage"));

@@ -59,6 +59,15 @@ struct Analysis::Impl {
   int stage_number = 0, stage_step = 0;
   double last_head_load = std::numeric_limits<double>::quiet_NaN(),
          last_head_settlement = std::numeric_limits<double>::quiet_NaN();
+  /// The loads of the running stage for the VTK field data (write_step): name, how the stage
+  /// applies it (0: on throughout, +1: applied over the stage, its value lambda x the full one,
+  /// -1: removed over the stage, 1 - lambda) and its full vertical resultant (kN, y up).
+  struct StageLoad {
+    std::string name;
+    int ramp = 0;
+    double fy = 0.0;
+  };
+  std::vector<StageLoad> stage_loads;
   std::string pile_cells; ///< [output] pile_cells: curves/axial_force.csv
   std::string out_dir;    ///< where the run writes (for the interface CSV files)
 
@@ -76,6 +85,8 @@ struct Analysis::Impl {
                                             std::set<std::string>& load_names, bool& reset_after);
   stage::Stage parse_stage(const toml::table& t, const std::string& ctx, std::set<std::string>& load_names);
   /// Runs stage k; false when the run ends here (failure in summary.outcome, or an early stop).
+  /// stage_loads from the loads before the stage's actions and `loads` after them (run_stage).
+  void record_stage_loads(const std::vector<LoadSpec>& before);
   bool run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
                  std::vector<std::array<double, 3>>& axial_rows);
   std::vector<std::array<double, 6>> shaft_rows; ///< load, y, shear, normal, slip (mm), status

@@ -3,12 +3,31 @@
 #include "analysis_impl.hpp"
 #include "status_output.hpp"
 #include "stratum/body_interfaces.hpp"
+#include "stratum/load.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 namespace fs = std::filesystem;
 
 namespace stratum {
+
+void Analysis::Impl::record_stage_loads(const std::vector<LoadSpec>& before) {
+  auto named = [](const std::vector<LoadSpec>& list, const std::string& name) {
+    return std::any_of(list.begin(), list.end(), [&](const LoadSpec& l) { return l.name == name; });
+  };
+  auto resultant = [&](const LoadSpec& l) {
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(model.u.size());
+    add_load(model, l, f);
+    double fy = 0.0;
+    for (Eigen::Index d = 1; d < f.size(); d += 2) fy += f[d];
+    return fy;
+  };
+  stage_loads.clear();
+  for (const auto& l : loads) stage_loads.push_back({l.name, named(before, l.name) ? 0 : 1, resultant(l)});
+  for (const auto& l : before)
+    if (!named(loads, l.name)) stage_loads.push_back({l.name, -1, resultant(l)});
+}
 
 void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   const Model& m = model;
@@ -23,6 +42,13 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
                 {"load_factor", m.lambda},
                 {units.column("head_load", "kN"), last_head_load},
                 {"head_settlement_" + units.small_length(), last_head_settlement}};
+  // Every load of the stage: the fraction of its full value applied now and its vertical
+  // resultant (y up; 0 for a pressure on a vertical wall), named after the load.
+  for (const auto& l : stage_loads) {
+    const double fraction = l.ramp == 0 ? 1.0 : (l.ramp > 0 ? m.lambda : 1.0 - m.lambda);
+    out.values.push_back({"load." + l.name + ".fraction", fraction});
+    out.values.push_back({"load." + l.name + "." + units.column("Fy", "kN"), fraction * l.fy});
+  }
   Field disp{"displacement", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
   Field reac{"reaction", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
   for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)

@@ -24,6 +24,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   m.prescribed_base = m.u;
 
   // ---- actions, in order (stratum/stage_action.hpp)
+  std::vector<LoadSpec> loads_before = loads;
   StageState actions{m, loads, nullptr, {}};
   for (const auto& a : st.actions) a->apply(actions);
   const LoadSpec* head = actions.head_load;
@@ -50,6 +51,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   for (auto& dm : m.domains) dm.states.revert();
   Eigen::VectorXd target = Eigen::VectorXd::Zero(m.u.size());
   for (const auto& l : loads) add_load(m, l, target);
+  record_stage_loads(loads_before);
   // Free DOFs: the stage starts in equilibrium with the forces the active cells carry and moves
   // linearly to the target load (this releases the forces of removed cells over the steps).
   // Fixed DOFs carry the target load, so that reactions are final forces.
