@@ -1,4 +1,4 @@
-"""The plastic-zone picture in ParaView (pvbatch / pvpython, or the GUI's Python shell).
+"""The plastic-zone picture in ParaView (pvbatch / pvpython).
 
     pvbatch tools/plastic_zone_paraview.py out/hypoelastic --load 60 [-o zone.png]
     pvpython tools/plastic_zone_paraview.py out/hypoelastic --load 60 --show
@@ -8,9 +8,9 @@ beside this file). Two kinds of files:
 
 - <results>/plastic_zone_<step>.vtp: all integration points of the step with a point array
   "regime" (a category index) whose names are the field data "regime_names"; it opens in the
-  ParaView GUI as it is (colour by "regime", "Interpret Values As Categories", tools/README.md).
-- for the picture, three small files in a temporary folder: the mesh edges and the pile cut to
-  the window (lines and polygons) and the points inside it. Everything drawn lies inside the
+  ParaView GUI (colour by "regime", "Interpret Values As Categories", tools/README.md).
+- for the picture, small files in a temporary folder (removed at the end): the mesh edges and
+  the pile cut to the window (lines and polygons), the soil and the interface points inside it. Everything drawn lies inside the
   window, so ParaView's axes grid spans exactly the window (r and z in the scene's length unit)
   and the camera frames it: the window on the left, the legend (a categorical colour bar with
   the models' own regime names and the number of points of each in view) on its right.
@@ -18,11 +18,14 @@ beside this file). Two kinds of files:
 --show keeps the render window open (pvpython with a display); without it the view is saved
 as a PNG.
 
-Which ParaView: any 5.9 or later whose Python runs this file (paraview.org binaries bring their
-own Python and VTK; checked with Debian 12's ParaView 5.11.0). On Debian the ParaView Python
+Which ParaView: written against paraview.simple of 5.10-5.11 (with fallbacks for older
+spellings of the window locations) and run in Debian 12's ParaView 5.11.0; paraview.org
+binaries bring their own Python and VTK. On Debian the ParaView Python
 modules are the package python3-paraview, which conflicts with python3-vtk9 (a dependency of
-libvtk9-dev, which Stratum builds against): do not install it on the build machine;
-tools/README.md says how to run a ParaView beside the build.
+libvtk9-dev, which Stratum builds against): `apt-get install python3-paraview` removes
+libvtk9-dev and python3-vtk9. Do not install it on the build machine; tools/README.md says how
+to run a ParaView beside the build (paraview.org binaries, or Debian's packages unpacked with
+dpkg-deb -x and run with LD_LIBRARY_PATH / PYTHONPATH).
 
 The geometry (window, clipping, layout) is plain Python without ParaView, tested in
 tests/python/test_plot_tools.py.
@@ -138,7 +141,7 @@ def in_view(labels, legend, xs, ys, xlim, ylim, skip):
     return keep, shown, [index[labels[i]] for i in keep]
 
 
-def layout(xlim, ylim, height=1300, plot_height=1100, left=180, bottom=100, legend_width=560):
+def layout(xlim, ylim, height=1300, plot_height=1100, left=215, bottom=100, legend_width=560):
     """Pixels of the view and the camera that puts the window `left` px from the view's left and
     `bottom` px from its bottom, `plot_height` px high, with `legend_width` px on its right:
     (view size [w, h], focal point (x, y), parallel scale, window's right edge as a view fraction)."""
@@ -346,7 +349,7 @@ def main():
         disp = pv.Show(pts, view)
         disp.SetRepresentationType("Points")
         # about tile the window: a diameter from the pixels per point of the plot area
-        plot_px = (right * size[0] - 180) * 1100.0
+        plot_px = (right * size[0] - 215) * 1100.0
         disp.PointSize = max(3.0, min(12.0, 0.5 * math.sqrt(plot_px / max(n_points, 1))))
         try:
             disp.RenderPointsAsSpheres = 1

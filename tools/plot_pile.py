@@ -113,10 +113,13 @@ def stop_reason(folder, log=None):
 
 
 def save(fig, path):
+    """Writes the figure (temporary file, then rename); returns the texts of its legends."""
+    texts = [t.get_text() for a in fig.axes if a.get_legend() for t in a.get_legend().get_texts()]
     tmp = path + ".tmp.png"
     fig.savefig(tmp, dpi=120)
     plt.close(fig)
     os.replace(tmp, path)
+    return texts
 
 
 def load_settlement(folder, reason):
@@ -141,8 +144,7 @@ def load_settlement(folder, reason):
     ax.legend(fontsize=7.5, loc="lower left")
     ax.set_title("Pile head: load against settlement", fontsize=10)
     fig.tight_layout()
-    save(fig, os.path.join(folder, "load_settlement.png"))
-    return "load_settlement.png"
+    return "load_settlement.png", save(fig, os.path.join(folder, "load_settlement.png"))
 
 
 def split_ambiguous(rows, key, dk):
@@ -201,8 +203,7 @@ def depth_plot(folder, data, quantity, label, name, title, zero_line=False, mark
               bbox_to_anchor=(1.02, 1.0), frameon=False)  # beside the axes: never on the curves
     ax.set_title(title, fontsize=10)
     fig.tight_layout(rect=(0, 0.03 if left_out else 0, 1, 1))
-    save(fig, os.path.join(folder, name + ".png"))
-    return name + ".png"
+    return name + ".png", save(fig, os.path.join(folder, name + ".png"))
 
 
 def main(argv):
@@ -216,7 +217,7 @@ def main(argv):
             log = a[len("--log="):]
     folder = args[0] if args else "out/hypoelastic/curves"
     reason = stop_reason(folder, log)
-    written = [load_settlement(folder, reason)]
+    written = dict([load_settlement(folder, reason)])
     plots = (("axial_force.csv", "axial_force", "axial force", "axial_force", "Axial force in the pile", {}),
              ("shaft_traction.csv", "shear_traction", "shear traction on the shaft", "shaft_traction",
               "Shaft shear traction (soil on pile)", {"zero_line": True}),
@@ -232,8 +233,9 @@ def main(argv):
         data = cache.setdefault(path, read(path))
         if not has_column(data, quantity):
             continue
-        written.append(depth_plot(folder, data, quantity, label, name, title, **opts))
+        written.update([depth_plot(folder, data, quantity, label, name, title, **opts)])
     print("plots:", folder, "(" + ", ".join(written) + ")" + (f"; run ended: {reason}" if reason else ""))
+    return written  # {PNG: its legend's texts}
 
 
 if __name__ == "__main__":
