@@ -10,10 +10,11 @@ beside this file). Two kinds of files:
   "regime" (a category index) whose names are the field data "regime_names"; it opens in the
   ParaView GUI (colour by "regime", "Interpret Values As Categories", tools/README.md).
 - for the picture, small files in a temporary folder (removed at the end): the mesh edges and
-  the pile cut to the window (lines and polygons), the soil and the interface points inside it. Everything drawn lies inside the
-  window, so ParaView's axes grid spans exactly the window (r and z in the scene's length unit)
-  and the camera frames it: the window on the left, the legend (a categorical colour bar with
-  the models' own regime names and the number of points of each in view) on its right.
+  the pile cut to the window (lines and polygons), the soil and the interface points inside it.
+  Everything drawn lies inside the window, so ParaView's axes grid spans exactly the window (r
+  and z in the scene's length unit) and the camera frames it: the window on the left, the
+  legend (a categorical colour bar with the models' own regime names and the number of points
+  of each in view) on its right.
 
 --show keeps the render window open (pvpython with a display); without it the view is saved
 as a PNG.
@@ -267,7 +268,8 @@ def prepare(a, tmp):
             shown.append(("pile (" + ", ".join(domains[i] for i in pile_idx) + ")", PILE_COLOUR, None))
             files["pile"] = os.path.join(tmp, "pile.vtp")
             write_polygons(pile, len(shown) - 1, files["pile"])
-    return k, fv, out_vtp, files, shown, len(keep), xlim, ylim, box is not None, os.path.basename(ip_pvd)[: -len("_ip.pvd")]
+    stem = os.path.basename(ip_pvd)[: -len("_ip.pvd")]
+    return k, fv, out_vtp, files, shown, len(keep), xlim, ylim, box is not None, stem
 
 
 def hex_rgb(h):

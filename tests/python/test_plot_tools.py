@@ -59,8 +59,8 @@ class Labels(unittest.TestCase):
 
 class StopReason(unittest.TestCase):
     def test_from_the_printout(self):
-        self.assertEqual(pp.reason_from_log("done: 124 steps\nstopped: the settlement limit of the stage is exceeded\n"),
-                         "the settlement limit of the stage is exceeded")
+        log = "done: 124 steps\nstopped: the settlement limit of the stage is exceeded\n"
+        self.assertEqual(pp.reason_from_log(log), "the settlement limit of the stage is exceeded")
         self.assertEqual(pp.reason_from_log(
             "stopped: collapse: a load step found no equilibrium after its cut-backs, and the structure had lost"),
             "collapse: a load step found no equilibrium after its cut-backs")
