@@ -254,11 +254,13 @@ def prepare(a, tmp):
     skip = [bool(box) and kinds[labels[i]] == "linear" and domain is not None and int(domain[i]) in pile_idx
             for i in range(len(labels))]
     keep, shown, category = in_view(labels, legend, xs, ys, xlim, ylim, skip)
-    files = {"points": os.path.join(tmp, "points.vtp"), "interface": os.path.join(tmp, "interface.vtp")}
+    files = {"points": os.path.join(tmp, "points.vtp")}
     itf_pts = [j for j, i in enumerate(keep) if kinds[labels[i]] == "interface"]
     soil_pts = [j for j, i in enumerate(keep) if kinds[labels[i]] != "interface"]
     write_points(xyz, [keep[j] for j in soil_pts], [category[j] for j in soil_pts], files["points"])
-    write_points(xyz, [keep[j] for j in itf_pts], [category[j] for j in itf_pts], files["interface"], 2e-3)
+    if itf_pts:
+        files["interface"] = os.path.join(tmp, "interface.vtp")
+        write_points(xyz, [keep[j] for j in itf_pts], [category[j] for j in itf_pts], files["interface"], 2e-3)
     if polys:
         files["mesh"] = os.path.join(tmp, "mesh.vtp")
         write_lines(mesh_edges(polys, xlim, ylim), files["mesh"])
@@ -360,14 +362,15 @@ def main():
         flat(disp)
         pv.ColorBy(disp, ("POINTS", "regime"))
         disp.LookupTable = lut
-        itf = pv.XMLPolyDataReader(FileName=[files["interface"]])
-        irep = pv.Show(itf, view)  # interface points as squares, a little larger (as plastic_zone.py)
-        irep.SetRepresentationType("Points")
-        irep.PointSize = 1.5 * disp.PointSize
-        flat(irep)
-        pv.ColorBy(irep, ("POINTS", "regime"))
-        irep.LookupTable = lut
-        irep.SetScalarBarVisibility(view, False)
+        if "interface" in files:
+            itf = pv.XMLPolyDataReader(FileName=[files["interface"]])
+            irep = pv.Show(itf, view)  # interface points as squares, a little larger (as plastic_zone.py)
+            irep.SetRepresentationType("Points")
+            irep.PointSize = 1.5 * disp.PointSize
+            flat(irep)
+            pv.ColorBy(irep, ("POINTS", "regime"))
+            irep.LookupTable = lut
+            irep.SetScalarBarVisibility(view, False)
         lut.RescaleTransferFunction(0.0, float(max(len(shown) - 1, 1)))
         disp.SetScalarBarVisibility(view, True)
         bar = pv.GetScalarBar(lut, view)
