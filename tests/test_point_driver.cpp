@@ -78,6 +78,16 @@ TEST_CASE("point driver: malformed point files give located one-line errors", "[
       "tension positive (compression < 0))");
   CHECK(msg(mat + "[[paths]]\ntype = \"oedometer\"\naxial_strain = -0.1\nsteps = 0\n") ==
         "p.toml:7:9 [[paths]] #1 steps = 0 is outside [1, 2147483647]");
+  // 2^32 + 1 passes a 64-bit range check and is 1 when cut to 32 bits: refused at its value.
+  CHECK(msg(mat + "[[paths]]\ntype = \"oedometer\"\naxial_strain = -0.1\nsteps = 4294967297\n") ==
+        "p.toml:7:9 [[paths]] #1 steps = 4294967297 is outside [1, 2147483647]");
+  // Every row stays in memory until the CSV is written: a run that cannot fit is refused up
+  // front, at the longest path's steps, with the estimate (about 1 kB per row; 2^31 - 1 rows
+  // would need 2.1 TB, more than any machine this runs on).
+  const std::string big = msg(mat + "[[paths]]\ntype = \"oedometer\"\naxial_strain = -0.1\nsteps = 10\n" +
+                              "[[paths]]\ntype = \"oedometer\"\naxial_strain = 0.1\nsteps = 2147483647\n");
+  CHECK(big.find("p.toml:11:9 the paths' 2147483657 steps would need about 2147.5 GB of memory") == 0);
+  CHECK(big.find("use fewer steps") != std::string::npos);
   CHECK(msg(mat + "[initial]\nstress = [1.0, 2.0]\n[[paths]]\ntype = \"oedometer\"\naxial_strain = 0.1\n") ==
         "p.toml:5:10 [initial] stress must have 6 numbers (xx, yy, zz, xy, yz, zx)");
   CHECK(msg("[material]\nmodel = \"plastic\"\n")

@@ -65,6 +65,22 @@ TEST_CASE("stability harness: TOML edits", "[stability]") {
   CHECK(s2.find("name = \"b\"\nsteps = 3\n") != std::string::npos);
 }
 
+TEST_CASE("stability harness: a scene's relative includes run from the harness' folder", "[stability]") {
+  // Found in issue 25's evidence: the pile scenes include ../materials/*.toml, which did not
+  // exist beside the harness' copy of the scene (every run an input error).
+  const std::string text = "title = \"t\"\ninclude = [  # shared sets\n  \"../materials/a.toml\",\n"
+                           "  \"/abs/b.toml\",\n]\n[analysis]\nsolver = \"newton\"\n";
+  const std::string r = st::absolute_includes(text, "/src/inputs/loess_pile");
+  CHECK(r.find("\"/src/inputs/materials/a.toml\"") != std::string::npos);
+  CHECK(r.find("\"/abs/b.toml\"") != std::string::npos);
+  CHECK(r.find("[analysis]\nsolver = \"newton\"\n") != std::string::npos);
+  CHECK(st::absolute_includes("[analysis]\n", "/x") == "[analysis]\n");
+  // The committed pile scene through input_scene: every include resolves.
+  const auto s = st::input_scene(STRATUM_SOURCE_DIR, "inputs/loess_pile/hardening_soil.toml");
+  CHECK(s.text.find("../materials") == std::string::npos);
+  CHECK(s.text.find(std::string(STRATUM_SOURCE_DIR)) != std::string::npos);
+}
+
 TEST_CASE("stability harness: catches crashes, NaN/Inf and silent failures", "[stability]") {
   const auto dir = scratch("harness");
   SECTION("NaN in CSV text and Inf in a VTK array") {
@@ -123,6 +139,21 @@ TEST_CASE("stability harness: catches crashes, NaN/Inf and silent failures", "[s
                                        "' > \"$4/diagnostics.csv\"; echo 'done: 1 steps'; echo '  nan  1.0'"),
                      "", dir / "run", 10);
     CHECK(o.kind == st::Kind::nan_inf);
+  }
+  SECTION("exit 4 is a numerical stop, and needs its 'stopped: numerical failure' line") {
+    const std::string csv = "stage,step,accepted,lambda_n,lambda\\n1,1,1,0,0.5\\n1,2,0,0.5,1\\n";
+    const auto o =
+        st::run_case(fake_exe(dir, "mkdir -p \"$4\"; printf '" + csv +
+                                       "' > \"$4/diagnostics.csv\"; echo 'done: 1 steps'; "
+                                       "echo 'stopped: numerical failure: Newton not converging'; exit 4"),
+                     "", dir / "run", 10);
+    CHECK(o.kind == st::Kind::numerical);
+    CHECK(o.exit_code == 4);
+    // The same exit without the line says nothing of why: silent.
+    const auto s = st::run_case(fake_exe(dir, "mkdir -p \"$4\"; printf '" + csv +
+                                                  "' > \"$4/diagnostics.csv\"; echo 'done: 1 steps'; exit 4"),
+                                "", dir / "run", 10);
+    CHECK(s.kind == st::Kind::silent);
   }
   SECTION("exit 2 needs one message line") {
     CHECK(st::run_case(fake_exe(dir, "exit 2"), "", dir / "run", 10).kind == st::Kind::silent);

@@ -7,6 +7,10 @@
   plot_sweep.py band SAMPLES.csv NAME [-o FILE.png] [--x-label ...] [--y-label ...] [--invert-y]
       sampled study: the 5 / 50 / 95 % quantiles of the curve recorded as the columns NAME@x
       (a quantity of type "curve" with at = [x1, x2, ...]), with every sample's curve in grey.
+  --table Q1,Q2,...   also print the study's table in Markdown (the tables of
+      docs/validation/loess_pile.md): tornado: the base row and one row per parameter, low / high
+      of each quantity Qi, ranked like the bars; band: the 5 / 50 / 95 % rows of the columns Qi
+      (NAME@x or any other quantity).
 
 Rows with status "failed" (the scene could not run) are left out and counted. An empty cell of
 a run that did not reach the abscissa (it stopped: the pile failed first) counts as beyond every
@@ -48,7 +52,7 @@ def quantile(values, q):
     return v[lo] + (h - lo) * (v[hi] - v[lo])
 
 
-def tornado(rows, quantity, out, title=None):
+def tornado(rows, quantity, out, title=None, table=None):
     if "varied" not in rows[0]:
         sys.exit("plot_sweep: tornado needs a one_at_a_time study (a 'varied' column)")
     if quantity not in rows[0]:
@@ -72,10 +76,12 @@ def tornado(rows, quantity, out, title=None):
         label = name
         if name in params:
             label += f"  ({lo[name]} / {hi[name]})"
-        bars.append((swing, label, vals))
+        bars.append((swing, label, vals, name))
+    if table:
+        print(tornado_table(rows, by, b, quantity, bars, table))
     bars.sort(key=lambda t: t[0])
     fig, ax = plt.subplots(figsize=(7, 0.5 * len(bars) + 1.6))
-    for i, (_, label, (vlo, vhi)) in enumerate(bars):
+    for i, (_, label, (vlo, vhi), _) in enumerate(bars):
         for v, colour, r, dy in ((vlo, "tab:blue", lo, -0.15), (vhi, "tab:red", hi, 0.15)):
             if v is None:  # the run failed, or stopped before the quantity's abscissa
                 why = "failed" if r is None or r["status"] == "failed" else "not reached: the run stopped first"
@@ -91,6 +97,41 @@ def tornado(rows, quantity, out, title=None):
     fig.tight_layout()
     fig.savefig(out, dpi=130)
     print(f"wrote {out}")
+
+
+def cell(r, q):
+    """A table cell: the value to 2 decimals, or why there is none."""
+    if r is None or r["status"] == "failed":
+        return "failed"
+    return "stopped before" if r[q] == "" else f"{float(r[q]):.2f}"
+
+
+def tornado_table(rows, by, b, quantity, bars, quantities):
+    for q in quantities:
+        if q not in rows[0]:
+            sys.exit(f"plot_sweep: no column '{q}'; columns: {', '.join(rows[0])}")
+    params = [k for k in rows[0] if k not in ("index", "varied", "status", "reason")]
+    lines = ["| parameter (low / high) | " + " | ".join(f"{q}: low / high" for q in quantities) + " |",
+             "|---|" + "---|" * len(quantities),
+             "| base run | " + " | ".join(cell(by["base"], q) for q in quantities) + " |"]
+    # The largest effect on `quantity` first; equal effects in the study's order.
+    for swing, _, _, name in sorted(bars, key=lambda t: -t[0]):
+        lo, hi = by.get(name + ":low"), by.get(name + ":high")
+        label = name + (f" ({lo[name]} / {hi[name]})" if name in params and lo and hi else "")
+        lines.append(f"| {label} | " + " | ".join(f"{cell(lo, q)} / {cell(hi, q)}" for q in quantities) + " |")
+    return "\n".join(lines)
+
+
+def band_table(rows, quantities):
+    ok = [r for r in rows if r["status"] != "failed"]
+    for q in quantities:
+        if q not in rows[0]:
+            sys.exit(f"plot_sweep: no column '{q}'; columns: {', '.join(rows[0])}")
+    lines = ["| quantile | " + " | ".join(quantities) + " |", "|---|" + "---|" * len(quantities)]
+    for p in (0.05, 0.5, 0.95):
+        vals = [quantile([value(r[q]) for r in ok], p) for q in quantities]
+        lines.append(f"| {round(p * 100)} % | " + " | ".join("stopped" if v is None else f"{v:.2f}" for v in vals) + " |")
+    return "\n".join(lines)
 
 
 def band(rows, name, out, xlabel, ylabel, invert, title=None, field=None, curves=()):
@@ -159,14 +200,18 @@ def main():
     ap.add_argument("--title", help="a first title line (the model, the study)")
     ap.add_argument("--field", help="band: also draw a field test file (load_kN, pileN_mm columns) and its mean")
     ap.add_argument("--curve", action="append", default=[], help="band: also draw CURVE.csv[=LABEL] (load_kN, settlement_mm)")
+    ap.add_argument("--table", help="also print the table of these quantities (comma-separated) in Markdown")
     a = ap.parse_args()
     rows = read(a.samples)
     if not rows:
         sys.exit(f"plot_sweep: {a.samples} has no samples")
     out = a.out or os.path.join(os.path.dirname(a.samples) or ".", f"{a.kind}_{a.name}.png")
+    table = a.table.split(",") if a.table else None
     if a.kind == "tornado":
-        tornado(rows, a.name, out, a.title)
+        tornado(rows, a.name, out, a.title, table)
     else:
+        if table:
+            print(band_table(rows, table))
         band(rows, a.name, out, a.x_label, a.y_label, a.invert_y, a.title, a.field, a.curve)
 
 

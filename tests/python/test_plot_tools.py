@@ -12,6 +12,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import plastic_zone_paraview as pzp  # noqa: E402
 import plot_pile as pp  # noqa: E402
+import plot_sweep as ps  # noqa: E402
 
 PNGS = ["load_settlement.png", "axial_force.png", "shaft_traction.png", "shaft_normal_traction.png",
         "shaft_slip.png"]
@@ -174,6 +175,42 @@ class ParaViewGeometry(unittest.TestCase):
         self.assertAlmostEqual((yl[0] - (focal[1] - scale)) * ppm, 100.0, places=6)
         self.assertAlmostEqual(right * size[0], 180 + (xl[1] - xl[0]) * ppm, places=6)
         self.assertGreaterEqual(size[0] - right * size[0], 560)  # room for the legend beside it
+
+
+class SweepTables(unittest.TestCase):
+    """plot_sweep.py --table: the Markdown tables of docs/validation/loess_pile.md."""
+
+    def test_tornado_table_ranks_by_the_largest_swing_and_says_stopped(self):
+        rows = [
+            {"index": "0", "varied": "base", "status": "stopped", "a": "1", "b": "2", "s30": "3.0", "P": "80"},
+            {"index": "1", "varied": "a:low", "status": "stopped", "a": "0.5", "b": "2", "s30": "3.1", "P": ""},
+            {"index": "2", "varied": "a:high", "status": "stopped", "a": "1.5", "b": "2", "s30": "2.95", "P": "81"},
+            {"index": "3", "varied": "b:low", "status": "stopped", "a": "1", "b": "1", "s30": "5.0", "P": "70"},
+            {"index": "4", "varied": "b:high", "status": "failed", "a": "1", "b": "3", "s30": "", "P": ""},
+        ]
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "t.png")
+            import contextlib
+            import io
+            buf = io.StringIO()
+            with contextlib.redirect_stdout(buf):
+                ps.tornado(rows, "s30", out, table=["s30", "P"])
+            self.assertTrue(os.path.exists(out))
+        lines = [l for l in buf.getvalue().splitlines() if l.startswith("|")]
+        self.assertEqual(lines[0], "| parameter (low / high) | s30: low / high | P: low / high |")
+        self.assertEqual(lines[2], "| base run | 3.00 | 80.00 |")
+        # b failed on one side: an infinite swing, so it ranks first
+        self.assertEqual(lines[3], "| b (1 / 3) | 5.00 / failed | 70.00 / failed |")
+        self.assertEqual(lines[4], "| a (0.5 / 1.5) | 3.10 / 2.95 | stopped before / 81.00 |")
+
+    def test_band_table_quantiles(self):
+        rows = [{"status": "stopped", "s@1": str(v), "P": "" if v > 9 else str(10 * v)} for v in range(1, 12)]
+        t = ps.band_table(rows, ["s@1", "P"]).splitlines()
+        self.assertEqual(t[0], "| quantile | s@1 | P |")
+        # type-7 quantiles of 1..11: 1.5, 6, 10.5; P reaches only 9 of 11 samples: no 95 % value
+        self.assertEqual(t[2], "| 5 % | 1.50 | 15.00 |")
+        self.assertEqual(t[3], "| 50 % | 6.00 | 60.00 |")
+        self.assertEqual(t[4], "| 95 % | 10.50 | stopped |")
 
 
 if __name__ == "__main__":
