@@ -129,6 +129,12 @@ TEST_CASE("cli: --version and plugins listing", "[cli]") {
   CHECK(d.code == 0);
   CHECK(d.out.find("library: ") != std::string::npos);
   CHECK(d.out.find("volumetric") != std::string::npos);
+  // A default the plugin computes is described as such (997ba04 printed F_CUT "default 1").
+  auto cap = stratum("plugins --describe cap_sandler");
+  CHECK(std::regex_search(
+      cap.out, std::regex(R"(\n  F_CUT +number +kPa +\(0, inf\), default ln\(A/C\)/B, computed)")));
+  auto hs = stratum("plugins --describe hardening_soil");
+  CHECK(std::regex_search(hs.out, std::regex(R"(\n  K0_nc +number +- +\(0, 1\), default 1 - sin phi)")));
   auto u = stratum("plugins --describe nosuch");
   expect_one_line_error(u, "", "unknown plugin 'nosuch'; known: ");
   CHECK(u.err.find("did you mean") == std::string::npos); // nothing is near "nosuch"

@@ -110,6 +110,30 @@ TEST_CASE("stability harness: catches crashes, NaN/Inf and silent failures", "[s
     st::Outcome o;
     CHECK(st::scan_outputs(out, o) == "s_0.vtu: stress");
   }
+  SECTION("a history variable NaN over whole domains is complete; a NaN within a domain is not") {
+    auto cloud = [](std::vector<double> values) {
+      auto g = vtkSmartPointer<vtkUnstructuredGrid>::New();
+      vtkNew<vtkPoints> p;
+      vtkNew<vtkDoubleArray> domain, h;
+      domain->SetName("domain");
+      h->SetName("kappa [kPa]");
+      for (int i = 0; i < 4; ++i) {
+        p->InsertNextPoint(i, 0, 0);
+        domain->InsertNextValue(i < 2 ? 0 : 1);
+        h->InsertNextValue(values[static_cast<std::size_t>(i)]);
+      }
+      g->SetPoints(p);
+      g->GetPointData()->AddArray(domain);
+      g->GetPointData()->AddArray(h);
+      return g;
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    long n = 0;
+    CHECK(st::scan_dataset(cloud({1.0, 2.0, nan, nan}), n).empty()); // domain 1 has no kappa
+    CHECK(st::scan_dataset(cloud({1.0, nan, nan, nan}), n) == "kappa [kPa]");
+    CHECK(st::scan_dataset(cloud({1.0, 2.0, std::numeric_limits<double>::infinity(), 3.0}), n) ==
+          "kappa [kPa]");
+  }
   SECTION("a signal is a crash") {
     const auto o = st::run_case(fake_exe(dir, "kill -SEGV $$"), "", dir / "run", 10);
     CHECK(o.kind == st::Kind::crash);

@@ -237,15 +237,18 @@ int plugins(std::vector<std::string> args) {
   }
   // The short list: one line per plugin; the summary is the first line of the plugin's own.
   std::size_t width = 0;
-  for (PluginKind k : kinds)
+  std::size_t kind_width = 0; // "stage_action" is 12 characters: one more for the space
+  for (PluginKind k : kinds) {
+    kind_width = std::max(kind_width, std::string(to_string(k)).size() + 1);
     for (const auto& n : reg.names(k)) width = std::max(width, n.size());
+  }
   for (PluginKind k : kinds)
     for (const auto& n : reg.names(k)) {
       std::string summary;
       static_cast<void>(reg.schema(k, n, &summary));
       summary = summary.substr(0, summary.find('\n'));
-      std::cout << std::left << std::setw(12) << to_string(k) << std::setw(static_cast<int>(width) + 2) << n
-                << summary << "\n";
+      std::cout << std::left << std::setw(static_cast<int>(kind_width)) << to_string(k)
+                << std::setw(static_cast<int>(width) + 2) << n << summary << "\n";
     }
   return 0;
 }

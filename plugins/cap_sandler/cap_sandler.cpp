@@ -61,7 +61,7 @@ stratum::Declared<Input> declare() {
   d.real(&Input::F_CUT, "F_CUT", "kPa",
          "optional check value: J1 tension where the envelope vanishes, ln(A/C)/B (the thesis prints it)")
       .greater_than(0.0)
-      .defaults_to(1.0);
+      .defaults_to_computed(1.0, "ln(A/C)/B, computed");
   d.choice(
        &Input::integration, "integration",
        {{"sandler_rubin", cs::Integration::sandler_rubin}, {"closest_point", cs::Integration::closest_point}},

@@ -45,13 +45,13 @@ stratum::Declared<hs::Parameters> declare() {
   d.real(&P::K0_nc, "K0_nc", "-", "K0 of normal consolidation (default 1 - sin phi)")
       .greater_than(0.0)
       .less_than(1.0)
-      .defaults_to(0.5);
+      .defaults_to_computed(0.5, "1 - sin phi");
   d.real(&P::alpha, "alpha", "-", "cap shape (derived from K0_nc and Eoed_ref unless given together with H)")
       .greater_than(0.0)
-      .defaults_to(1.0);
+      .defaults_to_computed(1.0, "derived from K0_nc and Eoed_ref (README)");
   d.real(&P::H, "H", "kPa", "cap hardening modulus at p_p = p_ref (derived unless given with alpha)")
       .greater_than(0.0)
-      .defaults_to(1.0);
+      .defaults_to_computed(1.0, "derived from K0_nc and Eoed_ref (README)");
   d.real(&P::tension, "tension", "kPa",
          "tension cut-off: largest principal stress (tension positive) at most this")
       .at_least(0.0)
@@ -68,10 +68,10 @@ stratum::Declared<hs::Parameters> declare() {
       .defaults_to(false);
   d.real(&P::G0_ref, "G0_ref", "kPa", "small-strain shear modulus at sigma_3 = p_ref (small_strain only)")
       .greater_than(0.0)
-      .defaults_to(1.0);
+      .defaults_to_computed(1.0, "none: required when small_strain = true");
   d.real(&P::gamma_07, "gamma_07", "-", "shear strain at which G_s = 0.722 G0 (small_strain only)")
       .greater_than(0.0)
-      .defaults_to(1e-4);
+      .defaults_to_computed(1e-4, "none: required when small_strain = true");
   d.check([](const P& m, const Params& p) -> std::optional<Problem> {
     if (m.Eur_ref <= 2.0 * m.E50_ref)
       return Problem{"Eur_ref", "Eur_ref = " + number(m.Eur_ref) +

@@ -413,14 +413,29 @@ inline std::string scan_text(const std::string& text, long& values) {
 }
 
 /// Name of the first array of `ds` (points included) with a non-finite value, or "".
+/// A named history variable (docs/design.md, "Output") is NaN at every point of a domain whose
+/// material has no component of that name: with a point array `domain`, an array that is NaN at
+/// all points of some domains and finite at all points of the others is complete, not a failure.
 inline std::string scan_dataset(vtkDataSet* ds, long& values) {
+  vtkDataArray* domain = ds->GetPointData() ? ds->GetPointData()->GetArray("domain") : nullptr;
   auto scan = [&](vtkDataArray* a) -> bool {
     if (!a) return false;
     const vtkIdType n = a->GetNumberOfTuples() * a->GetNumberOfComponents();
     values += n;
+    const bool per_domain = domain && a != domain && a->GetNumberOfTuples() == domain->GetNumberOfTuples();
+    std::map<long long, std::pair<bool, bool>> seen; // domain -> (a finite value, a NaN)
     for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i)
-      for (int c = 0; c < a->GetNumberOfComponents(); ++c)
-        if (!std::isfinite(a->GetComponent(i, c))) return true;
+      for (int c = 0; c < a->GetNumberOfComponents(); ++c) {
+        const double v = a->GetComponent(i, c);
+        if (std::isfinite(v)) {
+          if (per_domain) seen[static_cast<long long>(domain->GetComponent(i, 0))].first = true;
+          continue;
+        }
+        if (!per_domain || !std::isnan(v)) return true;
+        seen[static_cast<long long>(domain->GetComponent(i, 0))].second = true;
+      }
+    for (const auto& [d, fin_nan] : seen)
+      if (fin_nan.first && fin_nan.second) return true; // a NaN among a domain's values
     return false;
   };
   if (auto* ps = vtkPointSet::SafeDownCast(ds); ps && ps->GetPoints() && scan(ps->GetPoints()->GetData()))

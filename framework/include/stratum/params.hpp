@@ -33,6 +33,9 @@ struct ParamSpec {
   bool lower_open = false, upper_open = false;
   std::optional<ParamValue> fallback; ///< the default; none means required
   std::vector<std::string> choices;   ///< for text parameters: the allowed values
+  /// When the value used in the parameter's absence is not the fallback itself but computed by the
+  /// plugin (e.g. from other parameters): what it is, for the reference and `--describe`.
+  std::string default_note;
 
   ParamSpec& at_least(double v) {
     lower = v;
@@ -56,6 +59,13 @@ struct ParamSpec {
   }
   ParamSpec& defaults_to(ParamValue v) {
     fallback = std::move(v);
+    return *this;
+  }
+
+  /// Absent: computed by the plugin as `note` says (the fallback only marks it optional).
+  ParamSpec& defaults_to_computed(ParamValue placeholder, std::string note) {
+    fallback = std::move(placeholder);
+    default_note = std::move(note);
     return *this;
   }
 

@@ -16,6 +16,7 @@ namespace stratum {
 
 std::string default_text(const ParamSpec& p) {
   if (!p.fallback) return "";
+  if (!p.default_note.empty()) return p.default_note;
   std::ostringstream d;
   std::visit(
       [&](const auto& v) {
