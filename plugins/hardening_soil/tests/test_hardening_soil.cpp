@@ -230,6 +230,24 @@ TEST_CASE("hardening_soil: consistent tangent against finite differences in ever
       CHECK(st == (1 << hs::S));
     }
   }
+  SECTION("shear hardening with dilatancy (Rowe: mobilised friction above phi_cv)") {
+    // From isotropic 100 kPa the "psi = 10 deg" case above mobilises sin phi_m < sin phi_cv, so its
+    // dilatancy is zero. Here q = 0.8 q_f at sigma_3 = 100 kPa: sin phi_m = q / (2 (sigma_3 + c cot
+    // phi) + q) = 0.444 > sin phi_cv = (sin phi - sin psi) / (1 - sin phi sin psi) = 0.357, so
+    // sin psi_m = 0.104 > 0 (below sin psi = 0.174, not capped).
+    hs::Parameters Q = P;
+    Q.psi = 10.0;
+    auto mq = make(Q);
+    const double sp = std::sin(deg(Q.phi)), cp = std::cos(deg(Q.phi)), spsi = std::sin(deg(Q.psi));
+    const double qf = 2.0 * (Q.c * cp + 100.0 * sp) / (1.0 - sp), q = 0.8 * qf;
+    const double sfm = q / (2.0 * (100.0 + Q.c * cp / sp) + q), scv = (sp - spsi) / (1.0 - sp * spsi);
+    const double spm = (sfm - scv) / (1.0 - sfm * scv);
+    REQUIRE(spm > 0.05);
+    REQUIRE(spm < spsi);
+    const Point pt = at(*mq, diag(-100, -100 - q, -100));
+    CHECK(fd_error(*mq, pt, (Vec6() << 3e-5, -1e-4, 2e-5, 1e-5, -5e-6, 3e-6).finished(), st) < 1e-6);
+    CHECK(st == (1 << hs::S));
+  }
   SECTION("Mohr-Coulomb failure") {
     const double sp = std::sin(deg(P.phi)), cp = std::cos(deg(P.phi));
     const double qf = 2.0 * (P.c * cp + 100.0 * sp) / (1.0 - sp);
