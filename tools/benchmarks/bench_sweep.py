@@ -167,7 +167,7 @@ def main():
         cpu = statistics.mean(sample_seconds(work / "full", "cpu_seconds"))
         load1 = os.getloadavg()[0]
         md += [
-            f"The full scene (fine mesh, 60 steps to failure, no VTK), {a.full} samples through the driver "
+            f"The full default scene (`inputs/loess_pile/hypoelastic.toml` as committed: fine mesh, its load steps to the settlement limit, no VTK), {a.full} samples through the driver "
             f"on 1 process, load average {load1:.2f} at the end: mean {per:.1f} s wall and {cpu:.1f} s CPU "
             f"per sample (the wall time includes waiting for the shared cores; the CPU time is what a "
             f"dedicated core would take). At the CPU cost, 10 000 runs on 64 dedicated cores take about "
