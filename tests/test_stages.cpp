@@ -1019,8 +1019,8 @@ TEST_CASE("[output] pile_cells must name a cell set: located at check, not map::
 TEST_CASE("what a stage inherits: [analysis] steps cannot act beside [[stages]]; run-ending stages come last",
           "[stages]") {
   // Found on 997ba04: with [[stages]], [analysis] steps = 10 was silently ignored (each stage ran
-  // its own default of 1 step) while max_cutbacks was inherited. The rule (README.md, "What a stage inherits"): step
-  // control, max_cutbacks, error_tolerance, vtk and every are stage defaults; steps and
+  // its own default of 1 step) while max_cutbacks was inherited. The rule (README.md, "What a stage
+  // inherits"): step control, max_cutbacks, error_tolerance, vtk and every are stage defaults; steps and
   // increments belong to the stage.
   std::string with_steps = column;
   with_steps.replace(with_steps.find("formulation = \"axisymmetric\""), 28,
