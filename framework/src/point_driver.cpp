@@ -1,5 +1,6 @@
 #include "stratum/point_driver.hpp"
 
+#include "memory.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/tables.hpp"
 #include "stratum/files.hpp"
@@ -14,8 +15,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -200,16 +199,12 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
   double rows = 1.0;
   for (const auto& path : impl->paths) rows += static_cast<double>(path.steps);
   const double need = bytes_per_row * rows;
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  const double have = pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
-  if (have > 0 && need > have) {
-    char buf[240];
-    std::snprintf(buf, sizeof buf,
-                  "the paths' %.0f steps would need about %.1f GB of memory (about %.0f bytes per row of the "
-                  "CSV); this machine has %.1f GB: use fewer steps",
-                  rows - 1.0, need / 1e9, bytes_per_row, have / 1e9);
-    throw Error(location(*most), buf);
-  }
+  char count[32], basis[64];
+  std::snprintf(count, sizeof count, "%.0f", rows - 1.0);
+  std::snprintf(basis, sizeof basis, "about %.0f bytes per row of the CSV", bytes_per_row);
+  if (const auto no = memory_shortfall(need, std::string("the paths' ") + count + " steps", basis);
+      !no.empty())
+    throw Error(location(*most), no + ": use fewer steps");
   return std::unique_ptr<PointDriver>(new PointDriver(std::move(impl)));
 }
 

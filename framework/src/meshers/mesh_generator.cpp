@@ -1,5 +1,6 @@
 // The structured block generator: graded rectangles of quad4 or quad8 cells, merged
 // where their nodes coincide.
+#include "../memory.hpp"
 #include "stratum/mesh_io.hpp"
 
 #include <algorithm>
@@ -9,8 +10,6 @@
 #include <limits>
 #include <set>
 #include <unordered_map>
-
-#include <unistd.h>
 
 namespace stratum {
 
@@ -55,16 +54,12 @@ void validate(const std::vector<Block>& blocks, int nodes_per_cell) {
   double cells = 0;
   for (const Block& b : blocks) cells += static_cast<double>(b.nx) * static_cast<double>(b.ny);
   const double need = 4096.0 * cells;
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  const double have = pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
-  if (have > 0 && need > have) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "mesh blocks: %.0f cells would need about %.1f GB of memory (about 4 kB per cell); this "
-                  "machine has %.1f GB",
-                  cells, need / 1e9, have / 1e9);
-    throw Error(buf);
-  }
+  char count[32];
+  std::snprintf(count, sizeof count, "%.0f", cells);
+  if (const auto no =
+          memory_shortfall(need, std::string("mesh blocks: ") + count + " cells", "about 4 kB per cell");
+      !no.empty())
+    throw Error(no);
 }
 
 // n + 1 positions from a to b; the cell sizes form a geometric progression whose
