@@ -246,12 +246,16 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
 
 std::string Recorder::csv() const {
   std::ostringstream o;
+  // Every row starts with stage, step and lambda: a `lambda` quantity (kind global) is that
+  // column already and is not written twice.
   o << std::setprecision(12) << "stage,step,lambda";
-  for (const auto& q : quantities_) o << ',' << q;
+  for (const auto& q : quantities_)
+    if (q != "lambda") o << ',' << q;
   o << '\n';
   for (const auto& r : rows_) {
     o << r.stage << ',' << r.step << ',' << r.lambda;
-    for (double x : r.values) o << ',' << x;
+    for (std::size_t i = 0; i < r.values.size() && i < quantities_.size(); ++i)
+      if (quantities_[i] != "lambda") o << ',' << r.values[i];
     o << '\n';
   }
   return o.str();
