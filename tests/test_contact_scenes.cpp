@@ -109,7 +109,11 @@ TEST_CASE("interface input errors are one located line", "[contact]") {
   CHECK_THROWS_WITH(scene(replace(text, "edges = \"soil.bottom\"", "edges = \"nope\"")),
                     Catch::Contains("is not an edge set"));
   CHECK_THROWS_WITH(scene(replace(text, "element = \"interface_line\"", "element = \"quad\"")),
-                    Catch::Contains("allowed: contact2 or interface_line"));
+                    Catch::Contains("element = \"quad\" works on area cells (give it in [[domains]]); "
+                                    "allowed: an element whose cells are node pairs or interface lines"));
+  // ... and an interface element in [[domains]] is refused the other way round.
+  CHECK_THROWS_WITH(scene(replace(text, "element = \"quad\"", "element = \"contact2\"")),
+                    Catch::Contains("element = \"contact2\" works on interface cells"));
   CHECK_THROWS_WITH(scene(replace(text, "model = \"coulomb_elastoplastic\"",
                                   "model = \"coulomb_elastoplastic\"\npsi = 45.0")),
                     Catch::Contains("psi"));

@@ -68,6 +68,8 @@ class Contact2 final : public Element {
 public:
   explicit Contact2(Formulation f) : form_(f) {}
 
+  [[nodiscard]] ElementCells cells() const override { return ElementCells::node_pairs; }
+
   [[nodiscard]] int num_points(unsigned /*shape*/) const override { return 1; }
   void check_shape(unsigned shape) const override {
     if (shape != 0x0Fu && shape != 0x1Fu && shape != 0x2Fu)
@@ -169,6 +171,8 @@ enum class LineRule { gauss, newton_cotes };
 class InterfaceLine final : public Element {
 public:
   InterfaceLine(Formulation f, LineRule rule) : form_(f), rule_(rule) {}
+
+  [[nodiscard]] ElementCells cells() const override { return ElementCells::interface_lines; }
 
   [[nodiscard]] int num_points(unsigned shape) const override { return shape == 0x5Fu ? 3 : 2; }
   void check_shape(unsigned shape) const override {

@@ -48,9 +48,21 @@ struct ElementResult {
   Eigen::MatrixXd stiffness; ///< tangent d force / d u, 2n x 2n (only when requested)
 };
 
+/// The cells an element is made for: the area cells of a [[domains]] entry, or the cells an
+/// [[interfaces]] entry creates when it splits the mesh along an edge set.
+enum class ElementCells {
+  area,           ///< quads, triangles, thin layers: cells of the mesh, given in [[domains]]
+  node_pairs,     ///< one cell per pair of coincident nodes (two-node contact elements)
+  interface_lines ///< one cell per pair of coincident edges (2 + 2 or 3 + 3 nodes)
+};
+
 class Element {
 public:
   virtual ~Element() = default;
+
+  /// The cells the element works on; the scene reader creates interface cells of this kind for an
+  /// [[interfaces]] entry, and refuses an interface element in [[domains]] and the other way round.
+  [[nodiscard]] virtual ElementCells cells() const { return ElementCells::area; }
 
   /// Number of integration points (each with a StateStore slot) of a cell of this shape.
   [[nodiscard]] virtual int num_points(unsigned shape) const = 0;

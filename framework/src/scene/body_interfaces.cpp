@@ -241,27 +241,34 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
       throw Error(location(*t->get("law")),
                   ctx + " law = \"" + law +
                       "\" is not defined; defined [contact_laws]: " + names_of(law_by_name, law));
-    InterfaceCells kind;
-    if (element == "contact2")
-      kind = InterfaceCells::node_pairs;
-    else if (element == "interface_line")
-      kind = InterfaceCells::line;
-    else
-      throw Error(location(*t->get("element")),
-                  ctx + " element = \"" + element +
-                      "\" is not allowed; allowed: contact2 or interface_line (a thin_layer is a row of "
-                      "thin cells given as [[domains]] with a material)");
     auto made = scene::plugin_table<Element>(catalog, registry, element, location(*t->get("element")),
                                              ctx + " element = \"" + element + "\"", *t, ctx,
                                              scene::key_names(interface_keys), units);
     scene::follow_formulation(made.factory->schema, *t, made.params, model.formulation, ctx);
+    out.elements.push_back(made.create());
+    // The element says which interface cells it works on (stratum/element.hpp).
+    InterfaceCells kind = InterfaceCells::node_pairs;
+    switch (out.elements.back()->cells()) {
+    case ElementCells::node_pairs:
+      kind = InterfaceCells::node_pairs;
+      break;
+    case ElementCells::interface_lines:
+      kind = InterfaceCells::line;
+      break;
+    case ElementCells::area:
+      throw Error(
+          location(*t->get("element")),
+          ctx + " element = \"" + element +
+              "\" works on area cells (give it in [[domains]]); allowed: an element whose cells are "
+              "node pairs or interface lines, e.g. contact2, interface_line (a thin_layer is a row of "
+              "thin cells given as [[domains]] with a material)");
+    }
     InterfaceSplit split;
     try {
       split = split_interface(model.mesh, name, es->second, body2, kind);
     } catch (const Error& e) {
       throw Error(location(*t), ctx + ": " + e.message());
     }
-    out.elements.push_back(made.create());
     Domain dm;
     dm.name = name;
     dm.set_id = static_cast<int>(model.domains.size());

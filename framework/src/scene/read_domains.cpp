@@ -88,6 +88,11 @@ void Analysis::Impl::read_domains(const toml::table& root) {
                                              scene::key_names(domain_keys), units);
     scene::follow_formulation(made.factory->schema, t, made.params, model.formulation, ctx);
     elements.push_back(made.create());
+    if (elements.back()->cells() != ElementCells::area)
+      throw Error(location(*t.get("element")),
+                  ctx + " element = \"" + element +
+                      "\" works on interface cells (node pairs or lines), which an [[interfaces]] entry "
+                      "creates along an edge set; allowed here: an element of area cells, e.g. quad, tri");
     Domain dm;
     dm.name = cells;
     dm.set_id = static_cast<int>(i);

@@ -248,8 +248,9 @@ Schema contact_law_schema() {
 Schema interface_schema() {
   Schema s;
   s.text("edges", {}, "edge set along which the mesh is split into two sides");
-  s.text("element", {"contact2", "interface_line"},
-         "interface element (node pairs or line cells); its parameters go in this table");
+  s.text("element", {},
+         "interface element plugin: one whose cells are node pairs (e.g. contact2) or interface lines (e.g. "
+         "interface_line); its parameters go in this table");
   s.text("law", {}, "name of a [contact_laws.<name>] table");
   s.text("name", {}, "name of the interface: its cell set, <name>.side1/.side2 node sets, curves file")
       .defaults_to(std::string("<edges>"));
