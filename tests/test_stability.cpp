@@ -75,6 +75,10 @@ TEST_CASE("stability harness: a scene's relative includes run from the harness' 
   CHECK(r.find("\"/abs/b.toml\"") != std::string::npos);
   CHECK(r.find("[analysis]\nsolver = \"newton\"\n") != std::string::npos);
   CHECK(st::absolute_includes("[analysis]\n", "/x") == "[analysis]\n");
+  // The single-string form, and a key that only starts with "include" is left alone.
+  CHECK(st::absolute_includes("include = \"m.toml\"\n[a]\nx = [\"y\"]\n", "/s/d") ==
+        "include = \"/s/d/m.toml\"\n[a]\nx = [\"y\"]\n");
+  CHECK(st::absolute_includes("[a]\nincluded = \"m.toml\"\n", "/s") == "[a]\nincluded = \"m.toml\"\n");
   // The committed pile scene through input_scene: every include resolves.
   const auto s = st::input_scene(STRATUM_SOURCE_DIR, "inputs/loess_pile/hardening_soil.toml");
   CHECK(s.text.find("../materials") == std::string::npos);

@@ -205,23 +205,44 @@ inline std::string strip_checks(const std::string& text) {
 /// The scene's top-level `include = [...]` entries as absolute paths (relative ones are
 /// relative to the scene's folder), so that the text runs from any folder.
 inline std::string absolute_includes(const std::string& text, const fs::path& scene_dir) {
-  const auto key = text.find("\ninclude");
-  if (text.rfind("include", 0) != 0 && key == std::string::npos) return text;
-  const std::size_t start = text.rfind("include", 0) == 0 ? 0 : key + 1;
-  const auto open = text.find('[', start), close = text.find(']', start);
-  if (open == std::string::npos || close == std::string::npos || close < open) return text;
-  std::string out = text.substr(0, open);
-  std::size_t i = open;
-  while (i < close) {
-    const auto q = text.find('"', i);
-    if (q == std::string::npos || q > close) break;
-    const auto e = text.find('"', q + 1);
-    if (e == std::string::npos || e > close) break;
-    const std::string entry = text.substr(q + 1, e - q - 1);
-    const fs::path p(entry);
-    out += text.substr(i, q - i) + '"' +
-           (p.is_absolute() ? entry : (scene_dir / p).lexically_normal().string()) + '"';
-    i = e + 1;
+  // The top-level key: a line `include = "a.toml"` or `include = [ "a.toml", ... ]` (comments allowed).
+  std::size_t at = 0;
+  for (;;) {
+    const bool line_start = at == 0 || text[at - 1] == '\n';
+    if (line_start && text.compare(at, 7, "include") == 0) {
+      const auto eq = text.find_first_not_of(" \t", at + 7);
+      if (eq != std::string::npos && text[eq] == '=') break;
+    }
+    at = text.find("include", at + 1);
+    if (at == std::string::npos) return text;
+  }
+  std::size_t i = text.find_first_not_of(" \t", text.find('=', at) + 1);
+  if (i == std::string::npos) return text;
+  const bool list = text[i] == '[';
+  std::string out = text.substr(0, i);
+  // Rewrite every quoted entry until the value ends: after the one string, or at the list's `]`.
+  while (i < text.size()) {
+    const char ch = text[i];
+    if (ch == '#') { // a comment inside the list: copied to its line's end
+      const auto eol = text.find('\n', i);
+      out += text.substr(i, eol == std::string::npos ? std::string::npos : eol - i);
+      if (eol == std::string::npos) return out;
+      i = eol;
+      continue;
+    }
+    if (ch == '"') {
+      const auto e = text.find('"', i + 1);
+      if (e == std::string::npos) return text; // malformed: left to the scene reader
+      const std::string entry = text.substr(i + 1, e - i - 1);
+      const fs::path p(entry);
+      out += '"' + (p.is_absolute() ? entry : (scene_dir / p).lexically_normal().string()) + '"';
+      i = e + 1;
+      if (!list) break;
+      continue;
+    }
+    out += ch;
+    ++i;
+    if (list && ch == ']') break;
   }
   return out + text.substr(i);
 }

@@ -24,7 +24,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   m.prescribed_base = m.u;
 
   // ---- actions, in order (stratum/stage_action.hpp)
-  std::vector<LoadSpec> loads_before = loads;
+  const std::vector<LoadSpec> loads_before = loads;
   StageState actions{m, loads, nullptr, {}};
   for (const auto& a : st.actions) a->apply(actions);
   const LoadSpec* head = actions.head_load;
