@@ -309,8 +309,8 @@ public:
     d.dr_dq = plasticity::MatX::Zero(6, 1);
     if (!flat && a > 0.0) d.dr_dq.col(0) = (I / Q + n * (a / (Q * Q))) * dkde;
     d.dh_ds.resize(1, 6);
-    d.dh_ds.row(0) = -plasticity::identity().transpose() * d.dr_ds;
-    d.dh_dq = -plasticity::identity().transpose() * d.dr_dq;
+    d.dh_ds.row(0) = -I.transpose() * d.dr_ds;
+    d.dh_dq = -I.transpose() * d.dr_dq;
   }
 
   /// eps_v^p below W (the cap at finite X) and kappa above the envelope's apex (F_e(kappa) > 0).

@@ -1,6 +1,8 @@
 """Tests of tools/plot_pile.py and of the geometry of tools/plastic_zone_paraview.py (run by CTest
 with /usr/bin/python3; plot_pile needs matplotlib, python3-matplotlib in tools/setup.sh). The
 ParaView part of plastic_zone_paraview.py is not run here: it needs a ParaView (tools/README.md)."""
+import contextlib
+import io
 import os
 import sys
 import tempfile
@@ -190,8 +192,6 @@ class SweepTables(unittest.TestCase):
         ]
         with tempfile.TemporaryDirectory() as d:
             out = os.path.join(d, "t.png")
-            import contextlib
-            import io
             buf = io.StringIO()
             with contextlib.redirect_stdout(buf):
                 ps.tornado(rows, "s30", out, table=["s30", "P"])
