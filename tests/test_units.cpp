@@ -436,3 +436,17 @@ TEST_CASE("units: an elastic pile in kN, m and in N, mm writes the same curves, 
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("an integer beyond 2^53 where a number is expected is a value, not an internal error", "[units]") {
+  // Found by fuzz_scene (tests/fuzz/corpus/fuzz_scene/finding_integer_beyond_double.toml): toml++
+  // gives no double for an integer it cannot hold exactly, and the reader asked for one anyway.
+  stratum::Schema s;
+  s.real("m", "-", "a number").greater_than(0.0).less_than(10.0);
+  s.real_list("k", "-", "numbers").greater_than(0.0).less_than(10.0);
+  CHECK_THROWS_WITH(stratum::io::check_table(toml::parse("m = 9223372036854775807\nk = 1.0"), s, "[t]"),
+                    Catch::Contains("m = 9223372036854775807 is outside (0, 10)"));
+  CHECK_THROWS_WITH(
+      stratum::io::check_table(toml::parse("m = 1.0\nk = [1.0, 9223372036854775807]"), s, "[t]"),
+      Catch::Contains("k contains 9223372036854775807, outside (0, 10)"));
+  CHECK(stratum::io::number(*toml::parse("x = 9007199254740993")["x"].node()) == 9007199254740992.0);
+}

@@ -58,6 +58,11 @@ const char* type_name(const toml::node& n) {
   }
 }
 
+double number(const toml::node& n) {
+  if (const auto* i = n.as_integer()) return static_cast<double>(i->get());
+  return n.as_floating_point()->get();
+}
+
 namespace {
 
 std::string expected(const ParamSpec& s) {
@@ -173,7 +178,7 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
     switch (s.type) {
     case ParamType::real: {
       if (!v->is_number()) wrong_type(*v, context, s);
-      const double x = v->value<double>().value();
+      const double x = number(*v);
       check_number(x);
       p.set(s.name, x, where);
       break;
@@ -205,7 +210,7 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
     case ParamType::real_list: {
       std::vector<double> xs;
       if (v->is_number()) { // a single number is a list of one
-        const double x = v->value<double>().value();
+        const double x = number(*v);
         if (!std::isfinite(x) || !s.in_range(x))
           throw Error(location(*v), context + " " + s.name + " = " + show(*v) + " is outside " + s.allowed());
         p.set(s.name, std::vector<double>{x}, where);
@@ -215,7 +220,7 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
       if (!a) wrong_type(*v, context, s);
       for (const auto& e : *a) {
         if (!e.is_number()) wrong_type(*v, context, s);
-        const double x = e.value<double>().value();
+        const double x = number(e);
         if (!std::isfinite(x) || !s.in_range(x))
           throw Error(location(e),
                       context + " " + s.name + " contains " + show(e) + ", outside " + s.allowed());

@@ -31,6 +31,9 @@ namespace stratum::io {
 /// The value as written, for messages: 0.7, "abc", [1, 2], true, {...}.
 [[nodiscard]] std::string show(const toml::node& n);
 [[nodiscard]] const char* type_name(const toml::node& n);
+/// The value of a number node (is_number() must hold) as a double: integers by conversion, also
+/// those beyond 2^53 (toml++'s value<double>() gives nothing for an integer it cannot hold exactly).
+[[nodiscard]] double number(const toml::node& n);
 
 /// Validates `table` against `schema`: unknown keys (other than `extra`), missing required
 /// parameters, wrong types, values out of range or not among the choices. `context` is the

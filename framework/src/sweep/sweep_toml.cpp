@@ -128,7 +128,7 @@ void set_number(toml::node& leaf, double v) {
     leaf.as_floating_point()->get() = v;
 }
 
-double number_of(const toml::node& leaf) { return leaf.value<double>().value(); }
+double number_of(const toml::node& leaf) { return io::number(leaf); }
 
 /// Sets a path to a copy of `value` (any TOML value); the last key may be new.
 void assign(toml::table& root, const std::string& path, const toml::node& value) {
@@ -192,9 +192,9 @@ std::vector<const toml::table*> tables_of(const toml::table& root, const std::st
 std::optional<double> number(const toml::table& t, const std::string& key, const std::string& ctx) {
   const auto* n = t.get(key);
   if (!n) return std::nullopt;
-  if (!n->is_number() || !std::isfinite(n->value<double>().value()))
+  if (!n->is_number() || !std::isfinite(io::number(*n)))
     throw Error(location(*n), ctx + " " + key + " = " + io::show(*n) + " must be a finite number");
-  return n->value<double>().value();
+  return io::number(*n);
 }
 
 double need_number(const toml::table& t, const std::string& key, const std::string& ctx,
@@ -212,7 +212,7 @@ std::vector<double> numbers(const toml::table& t, const std::string& key, const 
   std::vector<double> out;
   if (a)
     for (const auto& e : *a)
-      if (e.is_number() && std::isfinite(e.value<double>().value())) out.push_back(e.value<double>().value());
+      if (e.is_number() && std::isfinite(io::number(e))) out.push_back(io::number(e));
   if (!a || a->empty() || out.size() != a->size())
     throw Error(location(*n),
                 ctx + " " + key + " = " + io::show(*n) + " must be a number or a non-empty array of numbers");
