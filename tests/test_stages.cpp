@@ -987,7 +987,12 @@ TEST_CASE(
   // On 997ba04 these were one line without file:line:col (or, for a folder, "expected
   // $MeshFormat, found end of file"), and a 10 000 x 10 000 mesh ended in std::bad_alloc.
   namespace fs = std::filesystem;
-  const std::string tail = "[materials.m]\nmodel = \"linear_elastic\"\nE = 1.0\n";
+  // The rest of the scene is complete: the text is checked before the mesh is built (scene.hpp),
+  // so a scene missing its domains or constraints would be refused for that first.
+  const std::string tail = "[materials.m]\nmodel = \"linear_elastic\"\nE = 1.0\n"
+                           "[[domains]]\ncells = \"all\"\nelement = \"quad\"\nmaterial = \"m\"\n"
+                           "[[constraints]]\nnodes = \"bottom\"\nux = 0.0\nuy = 0.0\n"
+                           "[[loads]]\ntype = \"gravity\"\ngamma = 1.0\n";
   CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"gmsh\"\nfile = \"no_such.msh\"\n" + tail),
                     Catch::Contains("test.toml:3:8 [mesh] file = \"no_such.msh\": no such file"));
   const fs::path dir =

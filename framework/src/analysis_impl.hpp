@@ -22,6 +22,10 @@
 
 namespace stratum {
 
+namespace scene {
+struct Scene;
+}
+
 struct Analysis::Impl {
   std::string path, title;
   RunOptions options;
@@ -71,19 +75,15 @@ struct Analysis::Impl {
   std::string pile_cells; ///< [output] pile_cells: curves/axial_force.csv
   std::string out_dir;    ///< where the run writes (for the interface CSV files)
 
-  // Reading the scene (framework/src/scene/): build() reads the whole scene in this order.
-  void build(const toml::table& root);
-  void read_mesh(const toml::table& root, const SourceLocation& pile_cells_at);
-  void unused_physical_groups(const toml::table& root, const SourceLocation& at, const std::string& file);
-  void read_domains(const toml::table& root);
-  void read_constraints(const toml::table& root);
-  void read_stages(const toml::table& root);
-  /// One [[stages.actions]] (or [[loads]]) table: its action from the registry by `type`,
-  /// checked against the scene as read so far.
-  std::unique_ptr<StageAction> parse_action(const toml::table& at, const std::string& actx,
-                                            const std::string& default_load_name,
-                                            std::set<std::string>& load_names, bool& reset_after);
-  stage::Stage parse_stage(const toml::table& t, const std::string& ctx, std::set<std::string>& load_names);
+  // Building the run's state from the scene as read (framework/src/scene/scene.hpp), in this
+  // order; each step checks what needs the mesh and creates the plugins.
+  void build(scene::Scene scene);
+  void build_mesh(const scene::Scene& scene);
+  void unused_physical_groups(const std::set<std::string>& named, const SourceLocation& at,
+                              const std::string& file);
+  void build_domains(const scene::Scene& scene);
+  void build_constraints(const scene::Scene& scene);
+  void build_stages(scene::Scene& scene); ///< moves the stage settings out of the scene
   /// Runs stage k; false when the run ends here (failure in summary.outcome, or an early stop).
   /// stage_loads from the loads before the stage's actions and `loads` after them (run_stage).
   void record_stage_loads(const std::vector<LoadSpec>& before);

@@ -77,33 +77,71 @@ std::vector<InterfacePoint> ordered_along(std::vector<InterfacePoint> pts) {
 
 } // namespace
 
-Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& model, const Units& units) {
+RecorderSpec read_recorder(const toml::table& t, const std::string& ctx, const Units& units) {
   const scene::TableKeys keys = scene::recorder_keys();
   const Params p = io::check_table(t, keys.schema, ctx, keys.other_names());
-  name_ = p.text("name");
-  kind_ = p.text("kind");
-  set_ = p.text("set");
-  if (name_.empty() || name_.find_first_of("/\\ ") != std::string::npos || name_[0] == '.')
-    throw Error(p.where("name"), ctx + " name = \"" + name_ +
+  RecorderSpec r;
+  r.context = ctx;
+  r.where = location(t);
+  r.name = p.text("name");
+  r.kind = p.text("kind");
+  r.set = p.text("set");
+  r.set_at = p.where("set");
+  r.at_at = p.where("at");
+  if (r.name.empty() || r.name.find_first_of("/\\ ") != std::string::npos || r.name[0] == '.')
+    throw Error(p.where("name"), ctx + " name = \"" + r.name +
                                      "\" must be a plain file name (no '/', '\\', spaces or leading '.')");
   const auto& at = p.real_list("at");
-  const bool needs_at = kind_ == "node" || kind_ == "point";
+  const bool needs_at = r.kind == "node" || r.kind == "point";
   if (needs_at && at.size() != 2)
     throw Error(at.empty() ? location(t) : p.where("at"),
-                ctx + " kind = \"" + kind_ + "\" needs at = [x, y] (" + units.length() + ")");
+                ctx + " kind = \"" + r.kind + "\" needs at = [x, y] (" + units.length() + ")");
   if (!needs_at && !at.empty())
     throw Error(p.where("at"), ctx + " at acts only for kind = \"node\" or \"point\"");
+  if (r.kind == "nodes" && r.set.empty())
+    throw Error(location(t), ctx + " kind = \"nodes\" needs set = \"<node or edge set>\"");
+  if (r.kind == "interface" && r.set.empty())
+    throw Error(location(t), ctx + " kind = \"interface\" needs set = \"<interface name>\"");
+  if (r.kind != "nodes" && r.kind != "interface" && !r.set.empty())
+    throw Error(p.where("set"), ctx + " set acts only for kind = \"nodes\" or \"interface\"");
+  if (needs_at) r.at[0] = at[0], r.at[1] = at[1];
+  // quantities: a list of names; by default all of the kind's.
+  const auto& names = allowed(r.kind);
+  if (const toml::node* q = t.get("quantities")) {
+    const auto* arr = q->as_array();
+    if (!arr || arr->empty())
+      throw Error(location(*q), ctx + " quantities must be a non-empty list of names, e.g. [\"" + names[0] +
+                                    "\"]; allowed: " + joined(names));
+    for (const auto& e : *arr) {
+      const auto v = e.value<std::string>();
+      if (!v || std::find(names.begin(), names.end(), *v) == names.end())
+        throw Error(location(e), ctx + " quantities contains " + io::show(e) + ", which kind = \"" + r.kind +
+                                     "\" does not record; allowed: " + joined(names));
+      r.quantities.push_back(*v);
+    }
+  } else {
+    r.quantities = names;
+  }
+  // An interface's rows are points: where each is along the interface comes first, always.
+  if (r.kind == "interface" && r.quantities.front() != "s") {
+    r.quantities.erase(std::remove(r.quantities.begin(), r.quantities.end(), "s"), r.quantities.end());
+    r.quantities.insert(r.quantities.begin(), "s");
+  }
+  return r;
+}
+
+Recorder::Recorder(const RecorderSpec& spec, const Model& model)
+    : name_(spec.name), kind_(spec.kind), set_(spec.set), quantities_(spec.quantities) {
+  const std::string& ctx = spec.context;
+  at_[0] = spec.at[0], at_[1] = spec.at[1];
   if (kind_ == "nodes") {
-    if (set_.empty()) throw Error(location(t), ctx + " kind = \"nodes\" needs set = \"<node or edge set>\"");
     const auto it = model.mesh.node_sets.find(set_);
     if (it == model.mesh.node_sets.end())
-      throw Error(p.where("set"),
+      throw Error(spec.set_at,
                   ctx + " set = \"" + set_ +
                       "\" is not a node or edge set of the mesh; known: " + key_list(model.mesh.node_sets));
     nodes_ = it->second;
   } else if (kind_ == "interface") {
-    if (set_.empty())
-      throw Error(location(t), ctx + " kind = \"interface\" needs set = \"<interface name>\"");
     std::vector<std::string> known;
     bool found = false;
     for (std::size_t d = 0; d < model.domains.size(); ++d) {
@@ -113,14 +151,10 @@ Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& mo
       if (dm.name == set_) domain_ = d, found = true;
     }
     if (!found)
-      throw Error(p.where("set"),
-                  ctx + " set = \"" + set_ + "\" is not an interface of the scene; " +
-                      (known.empty() ? std::string("the scene has no [[interfaces]]")
-                                     : "known: " + joined(known) + did_you_mean(set_, known)));
-  } else if (!set_.empty()) {
-    throw Error(p.where("set"), ctx + " set acts only for kind = \"nodes\" or \"interface\"");
+      throw Error(spec.set_at, ctx + " set = \"" + set_ + "\" is not an interface of the scene; " +
+                                   (known.empty() ? std::string("the scene has no [[interfaces]]")
+                                                  : "known: " + joined(known) + did_you_mean(set_, known)));
   }
-  if (needs_at) at_[0] = at[0], at_[1] = at[1];
   if (kind_ == "node") {
     // The node must be at `at`: a recorder that silently moved to another node would record
     // another quantity than the one asked for.
@@ -142,31 +176,9 @@ Recorder::Recorder(const toml::table& t, const std::string& ctx, const Model& mo
         m << "; the nearest is node " << best << " at ("
           << model.mesh.nodes[static_cast<std::size_t>(best)][0] << ", "
           << model.mesh.nodes[static_cast<std::size_t>(best)][1] << ")";
-      throw Error(p.where("at"), m.str());
+      throw Error(spec.at_at, m.str());
     }
     nodes_ = {best};
-  }
-  // quantities: a list of names; by default all of the kind's.
-  const auto& names = allowed(kind_);
-  if (const toml::node* q = t.get("quantities")) {
-    const auto* arr = q->as_array();
-    if (!arr || arr->empty())
-      throw Error(location(*q), ctx + " quantities must be a non-empty list of names, e.g. [\"" + names[0] +
-                                    "\"]; allowed: " + joined(names));
-    for (const auto& e : *arr) {
-      const auto v = e.value<std::string>();
-      if (!v || std::find(names.begin(), names.end(), *v) == names.end())
-        throw Error(location(e), ctx + " quantities contains " + io::show(e) + ", which kind = \"" + kind_ +
-                                     "\" does not record; allowed: " + joined(names));
-      quantities_.push_back(*v);
-    }
-  } else {
-    quantities_ = names;
-  }
-  // An interface's rows are points: where each is along the interface comes first, always.
-  if (kind_ == "interface" && quantities_.front() != "s") {
-    quantities_.erase(std::remove(quantities_.begin(), quantities_.end(), "s"), quantities_.end());
-    quantities_.insert(quantities_.begin(), "s");
   }
 }
 
@@ -269,7 +281,7 @@ std::string recorder_quantity_unit(const std::string& q) {
   return "-";
 }
 
-Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<Recorder>& recorders) {
+Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<RecorderSpec>& recorders) {
   const Params p = io::check_table(t, scene::check_schema(), ctx);
   Check c{p.text("recorder"), p.text("quantity"), p.real("expected"),
           p.real("rtol"),     p.real("atol"),     location(t)};
@@ -277,17 +289,17 @@ Check parse_check(const toml::table& t, const std::string& ctx, const std::vecto
     throw Error(location(t), ctx + " give rtol or atol (or both): a check of floating-point results needs a "
                                    "tolerance");
   const auto it = std::find_if(recorders.begin(), recorders.end(),
-                               [&](const Recorder& r) { return r.name() == c.recorder; });
+                               [&](const RecorderSpec& r) { return r.name == c.recorder; });
   if (it == recorders.end()) {
     std::string known;
-    for (const auto& r : recorders) known += (known.empty() ? "" : ", ") + r.name();
+    for (const auto& r : recorders) known += (known.empty() ? "" : ", ") + r.name;
     throw Error(p.where("recorder"), ctx + " recorder = \"" + c.recorder +
                                          "\" is not an [[output.history]] name" +
                                          (known.empty() ? "; the scene has none" : "; known: " + known));
   }
-  if (it->column(c.quantity) < 0)
+  if (std::find(it->quantities.begin(), it->quantities.end(), c.quantity) == it->quantities.end())
     throw Error(p.where("quantity"), ctx + " quantity = \"" + c.quantity + "\" is not recorded by \"" +
-                                         c.recorder + "\"; it records: " + joined(it->quantities()));
+                                         c.recorder + "\"; it records: " + joined(it->quantities));
   return c;
 }
 

@@ -54,11 +54,25 @@ struct RecorderRow {
   std::vector<double> values;
 };
 
+/// One [[output.history]] table as read: checked, with its quantities resolved (they depend on
+/// the kind only, not on the mesh). The names of nodes, sets and interfaces are resolved when the
+/// scene is built (Recorder).
+struct RecorderSpec {
+  std::string context, name, kind, set;
+  std::vector<std::string> quantities;
+  double at[2] = {0.0, 0.0};
+  SourceLocation where, set_at, at_at;
+};
+
+/// Reads and checks one [[output.history]] table; `ctx` names it in messages.
+[[nodiscard]] RecorderSpec read_recorder(const toml::table& t, const std::string& ctx,
+                                         const Units& units = {});
+
 class Recorder {
 public:
-  /// Reads and checks one [[output.history]] table against the mesh.
-  /// `units`: the scene's, for messages (the recorded values are in them anyway).
-  Recorder(const toml::table& t, const std::string& ctx, const Model& model, const Units& units = {});
+  /// Resolves the spec against the model: the node (within 1e-6 of the mesh's size of `at`),
+  /// the node set or the interface it names; throws a located Error when there is none.
+  Recorder(const RecorderSpec& spec, const Model& model);
 
   [[nodiscard]] const std::string& name() const { return name_; }
   [[nodiscard]] const std::vector<std::string>& quantities() const { return quantities_; }
@@ -89,7 +103,7 @@ struct Check {
 };
 
 /// Reads one [[checks]] table; the recorder and quantity must exist.
-Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<Recorder>& recorders);
+Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<RecorderSpec>& recorders);
 
 /// Evaluates the checks on the recorders' last rows (a recorder without rows fails its checks).
 std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,

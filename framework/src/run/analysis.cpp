@@ -1,6 +1,7 @@
 // Analysis: from a scene file to a built model (scene/read_scene.cpp) and a run (run/run.cpp).
 #include "analysis_impl.hpp"
 #include "meshers/builtin_generators.hpp"
+#include "scene/scene.hpp"
 #include "stages/builtin_actions.hpp"
 #include "toml_check.hpp"
 
@@ -26,7 +27,10 @@ std::unique_ptr<Analysis> Analysis::from_string(const std::string& text, const s
   auto impl = std::make_unique<Impl>();
   impl->path = path;
   impl->options = std::move(options);
-  impl->build(root);
+  // The framework's own stage actions and mesh generators are registered like a plugin's.
+  register_builtin_factories(impl->registry);
+  impl->catalog = std::make_unique<PluginCatalog>(scene::plugin_directories(root, path, impl->options));
+  impl->build(scene::read(root, path, *impl->catalog, impl->registry));
   return std::unique_ptr<Analysis>(new Analysis(std::move(impl)));
 }
 

@@ -1,6 +1,7 @@
 #include "stratum/body_interfaces.hpp"
 
 #include "scene/plugin_table.hpp"
+#include "scene/scene.hpp"
 #include "scene/schemas.hpp"
 #include "scene_interfaces.hpp"
 #include "toml_check.hpp"
@@ -172,10 +173,9 @@ template <class Map> std::string names_of(const Map& m, std::string_view name = 
 
 } // namespace
 
-void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Registry& registry, Model& model,
-                           SceneInterfaces& out, const Units& units) {
+void scene::read_interfaces(const toml::table& root, PluginCatalog& catalog, Registry& registry, Scene& sc) {
   // [contact_laws.<name>]
-  std::map<std::string, const ContactLaw*> law_by_name;
+  std::map<std::string, std::size_t> law_by_name;
   if (const toml::node* n = root.get("contact_laws")) {
     const auto* laws = n->as_table();
     if (!laws) throw Error(location(*n), "contact_laws must be a table of [contact_laws.<name>] tables");
@@ -186,10 +186,11 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
       const auto* t = value.as_table();
       if (!t) throw Error(location(value), ctx + " must be a table");
       const std::string model_name = require_string(*t, "model", ctx);
-      out.laws.push_back(scene::plugin_from_table<ContactLaw>(
-          catalog, registry, model_name, location(*t->get("model")), ctx + " model = \"" + model_name + "\"",
-          *t, ctx, scene::key_names(law_keys), units));
-      law_by_name[name] = out.laws.back().get();
+      sc.contact_laws.push_back(
+          {name, scene::plugin_table<ContactLaw>(catalog, registry, model_name, location(*t->get("model")),
+                                                 ctx + " model = \"" + model_name + "\"", *t, ctx,
+                                                 scene::key_names(law_keys), sc.units)});
+      law_by_name[name] = sc.contact_laws.size() - 1;
     }
   }
 
@@ -204,48 +205,60 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
     ++index;
     const auto* t = entry.as_table();
     if (!t) throw Error(location(entry), "interfaces entries must be tables [[interfaces]]");
-    const std::string ctx = "[[interfaces]] #" + std::to_string(index);
-    const std::string edges = require_string(*t, "edges", ctx);
-    const std::string element = require_string(*t, "element", ctx);
+    InterfaceSpec f;
+    f.context = "[[interfaces]] #" + std::to_string(index);
+    const std::string& ctx = f.context;
+    f.at = location(*t);
+    f.edges = require_string(*t, "edges", ctx);
+    f.element = require_string(*t, "element", ctx);
     const std::string law = require_string(*t, "law", ctx);
-    std::string name = edges, cells;
-    bool csv = true;
+    f.edges_at = location(*t->get("edges"));
+    f.element_at = location(*t->get("element"));
+    f.name = f.edges;
     if (const auto* v = t->get("name")) {
       if (!v->is_string()) throw Error(location(*v), ctx + " name must be a string");
-      name = v->as_string()->get();
+      f.name = v->as_string()->get();
     }
     if (const auto* v = t->get("cells")) {
       if (!v->is_string()) throw Error(location(*v), ctx + " cells must be a string (a cell set)");
-      cells = v->as_string()->get();
+      f.cells = v->as_string()->get();
+      f.cells_at = location(*v);
     }
     if (const auto* v = t->get("csv")) {
       if (!v->is_boolean()) throw Error(location(*v), ctx + " csv must be true or false");
-      csv = v->as_boolean()->get();
-    }
-    auto es = model.mesh.edge_sets.find(edges);
-    if (es == model.mesh.edge_sets.end())
-      throw Error(location(*t->get("edges")),
-                  ctx + " edges = \"" + edges +
-                      "\" is not an edge set of the mesh; known: " + names_of(model.mesh.edge_sets, edges));
-    std::vector<int> body2;
-    if (!cells.empty()) {
-      auto cs = model.mesh.cell_sets.find(cells);
-      if (cs == model.mesh.cell_sets.end())
-        throw Error(location(*t->get("cells")),
-                    ctx + " cells = \"" + cells +
-                        "\" is not a cell set of the mesh; known: " + names_of(model.mesh.cell_sets, cells));
-      body2 = cs->second;
+      f.csv = v->as_boolean()->get();
     }
     auto lw = law_by_name.find(law);
     if (lw == law_by_name.end())
       throw Error(location(*t->get("law")),
                   ctx + " law = \"" + law +
                       "\" is not defined; defined [contact_laws]: " + names_of(law_by_name, law));
-    auto made = scene::plugin_table<Element>(catalog, registry, element, location(*t->get("element")),
-                                             ctx + " element = \"" + element + "\"", *t, ctx,
-                                             scene::key_names(interface_keys), units);
-    scene::follow_formulation(made.factory->schema, *t, made.params, model.formulation, ctx);
-    out.elements.push_back(made.create());
+    f.law_index = lw->second;
+    f.plugin = scene::plugin_table<Element>(catalog, registry, f.element, f.element_at,
+                                            ctx + " element = \"" + f.element + "\"", *t, ctx,
+                                            scene::key_names(interface_keys), sc.units);
+    scene::follow_formulation(f.plugin.factory->schema, *t, f.plugin.params, sc.settings.formulation, ctx);
+    sc.interfaces.push_back(std::move(f));
+  }
+}
+
+void build_scene_interfaces(const scene::Scene& sc, Model& model, SceneInterfaces& out) {
+  for (const auto& law : sc.contact_laws) out.laws.push_back(law.plugin.create());
+  for (const auto& f : sc.interfaces) {
+    const std::string& ctx = f.context;
+    auto es = model.mesh.edge_sets.find(f.edges);
+    if (es == model.mesh.edge_sets.end())
+      throw Error(f.edges_at, ctx + " edges = \"" + f.edges + "\" is not an edge set of the mesh; known: " +
+                                  names_of(model.mesh.edge_sets, f.edges));
+    std::vector<int> body2;
+    if (!f.cells.empty()) {
+      auto cs = model.mesh.cell_sets.find(f.cells);
+      if (cs == model.mesh.cell_sets.end())
+        throw Error(f.cells_at, ctx + " cells = \"" + f.cells + "\" is not a cell set of the mesh; known: " +
+                                    names_of(model.mesh.cell_sets, f.cells));
+      body2 = cs->second;
+    }
+    out.elements.push_back(f.plugin.create());
     // The element says which interface cells it works on (stratum/element.hpp).
     InterfaceCells kind = InterfaceCells::node_pairs;
     switch (out.elements.back()->cells()) {
@@ -257,23 +270,23 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
       break;
     case ElementCells::area:
       throw Error(
-          location(*t->get("element")),
-          ctx + " element = \"" + element +
+          f.element_at,
+          ctx + " element = \"" + f.element +
               "\" works on area cells (give it in [[domains]]); allowed: an element whose cells are "
               "node pairs or interface lines, e.g. contact2, interface_line (a thin_layer is a row of "
               "thin cells given as [[domains]] with a material)");
     }
     InterfaceSplit split;
     try {
-      split = split_interface(model.mesh, name, es->second, body2, kind);
+      split = split_interface(model.mesh, f.name, es->second, body2, kind);
     } catch (const Error& e) {
-      throw Error(location(*t), ctx + ": " + e.message());
+      throw Error(f.at, ctx + ": " + e.message());
     }
     Domain dm;
-    dm.name = name;
+    dm.name = f.name;
     dm.set_id = static_cast<int>(model.domains.size());
     dm.element = out.elements.back().get();
-    dm.law.contact = lw->second;
+    dm.law.contact = out.laws[f.law_index].get();
     dm.cells = split.cells;
     dm.first_point.assign(dm.cells.size() + 1, 0);
     std::vector<int> nodes;
@@ -286,7 +299,7 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
         model.cell_nodes(cell, nodes, x);
         dm.element->check_geometry(ElementData{cell, shape, &x});
       } catch (const Error& e) {
-        throw Error(location(*t->get("element")), ctx + " cell " + std::to_string(cell) + ": " + e.message());
+        throw Error(f.element_at, ctx + " cell " + std::to_string(cell) + ": " + e.message());
       }
       dm.first_point[c + 1] = dm.first_point[c] + static_cast<std::size_t>(dm.element->num_points(shape));
     }
@@ -294,7 +307,7 @@ void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Regi
     for (std::size_t p = 0; p < dm.states.points(); ++p)
       dm.law.contact->init_history(dm.states.committed_for_init(p).history());
     dm.states.revert();
-    out.interfaces.push_back({name, model.domains.size(), csv});
+    out.interfaces.push_back({f.name, model.domains.size(), f.csv});
     model.domains.push_back(std::move(dm));
   }
 }

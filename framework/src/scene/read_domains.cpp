@@ -1,6 +1,8 @@
-// Reading [materials], [[domains]] and [[constraints]].
+// [materials], [[domains]] and [[constraints]]: read into the Scene (scene.hpp), then built
+// against the mesh.
 #include "analysis_impl.hpp"
 #include "scene/plugin_table.hpp"
+#include "scene/scene.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"
 #include "toml_check.hpp"
@@ -43,9 +45,9 @@ std::string domain_cover(const Mesh& mesh, const std::vector<int>& owner, const 
 
 } // namespace
 
-void Analysis::Impl::read_domains(const toml::table& root) {
+void scene::read_domains(const toml::table& root, PluginCatalog& catalog, Registry& registry, Scene& sc) {
   // ---- materials
-  std::map<std::string, const Material*> material_by_name;
+  std::map<std::string, std::size_t> material_by_name;
   {
     const auto& mats = optional_table(root, "materials");
     const Schema material_keys = scene::material_schema();
@@ -55,57 +57,73 @@ void Analysis::Impl::read_domains(const toml::table& root) {
       const auto* t = value.as_table();
       if (!t) throw Error(location(value), ctx + " must be a table");
       const std::string model_name = require_string(*t, "model", ctx);
-      materials.push_back(scene::plugin_from_table<Material>(
-          *catalog, registry, model_name, location(*t->get("model")), ctx + " model = \"" + model_name + "\"",
-          *t, ctx, scene::key_names(material_keys), units));
-      material_by_name[name] = materials.back().get();
+      sc.materials.push_back(
+          {name, scene::plugin_table<Material>(catalog, registry, model_name, location(*t->get("model")),
+                                               ctx + " model = \"" + model_name + "\"", *t, ctx,
+                                               scene::key_names(material_keys), sc.units)});
+      material_by_name[name] = sc.materials.size() - 1;
     }
   }
 
   // ---- domains
+  // (A scene without [[domains]] is refused when it is built, after its mesh: a scene being
+  // written meets the problems in the order of its sections.)
   const auto domain_list = table_list(root, "domains");
-  if (domain_list.empty()) throw Error(location(root), "scene has no [[domains]]: nothing to analyse");
-  std::vector<int> owner(model.mesh.cells.size(), -1);
+  if (const auto* d = root.get("domains")) sc.domains_at = location(*d);
   const Schema domain_keys = scene::domain_schema();
   for (std::size_t i = 0; i < domain_list.size(); ++i) {
     const auto& t = *domain_list[i];
-    const std::string ctx = "[[domains]] #" + std::to_string(i + 1);
-    const std::string cells = require_string(t, "cells", ctx);
-    const std::string element = require_string(t, "element", ctx);
-    const std::string material = require_string(t, "material", ctx);
-    auto cs = model.mesh.cell_sets.find(cells);
-    if (cs == model.mesh.cell_sets.end())
-      throw Error(location(*t.get("cells")),
-                  ctx + " cells = \"" + cells +
-                      "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets, cells));
-    auto mat = material_by_name.find(material);
+    DomainSpec d;
+    d.context = "[[domains]] #" + std::to_string(i + 1);
+    const std::string& ctx = d.context;
+    d.cells = require_string(t, "cells", ctx);
+    d.element = require_string(t, "element", ctx);
+    d.material = require_string(t, "material", ctx);
+    d.cells_at = location(*t.get("cells"));
+    d.element_at = location(*t.get("element"));
+    d.material_at = location(*t.get("material"));
+    auto mat = material_by_name.find(d.material);
     if (mat == material_by_name.end())
-      throw Error(location(*t.get("material")),
-                  ctx + " material = \"" + material +
-                      "\" is not defined; defined: " + key_list(material_by_name, material));
-    auto made = scene::plugin_table<Element>(*catalog, registry, element, location(*t.get("element")),
-                                             ctx + " element = \"" + element + "\"", t, ctx,
-                                             scene::key_names(domain_keys), units);
-    scene::follow_formulation(made.factory->schema, t, made.params, model.formulation, ctx);
-    elements.push_back(made.create());
+      throw Error(d.material_at, ctx + " material = \"" + d.material +
+                                     "\" is not defined; defined: " + key_list(material_by_name, d.material));
+    d.material_index = mat->second;
+    d.plugin = scene::plugin_table<Element>(catalog, registry, d.element, d.element_at,
+                                            ctx + " element = \"" + d.element + "\"", t, ctx,
+                                            scene::key_names(domain_keys), sc.units);
+    scene::follow_formulation(d.plugin.factory->schema, t, d.plugin.params, sc.settings.formulation, ctx);
+    sc.domains.push_back(std::move(d));
+  }
+}
+
+void Analysis::Impl::build_domains(const scene::Scene& sc) {
+  if (sc.domains.empty()) throw Error(sc.at, "scene has no [[domains]]: nothing to analyse");
+  for (const auto& m : sc.materials) materials.push_back(m.plugin.create());
+  std::vector<int> owner(model.mesh.cells.size(), -1);
+  for (std::size_t i = 0; i < sc.domains.size(); ++i) {
+    const scene::DomainSpec& d = sc.domains[i];
+    const std::string& ctx = d.context;
+    auto cs = model.mesh.cell_sets.find(d.cells);
+    if (cs == model.mesh.cell_sets.end())
+      throw Error(d.cells_at, ctx + " cells = \"" + d.cells + "\" is not a cell set of the mesh; known: " +
+                                  key_list(model.mesh.cell_sets, d.cells));
+    elements.push_back(d.plugin.create());
     if (elements.back()->cells() != ElementCells::area)
-      throw Error(location(*t.get("element")),
-                  ctx + " element = \"" + element +
+      throw Error(d.element_at,
+                  ctx + " element = \"" + d.element +
                       "\" works on interface cells (node pairs or lines), which an [[interfaces]] entry "
                       "creates along an edge set; allowed here: an element of area cells, e.g. quad, tri");
     Domain dm;
-    dm.name = cells;
+    dm.name = d.cells;
     dm.set_id = static_cast<int>(i);
     dm.element = elements.back().get();
-    dm.law.material = mat->second;
+    dm.law.material = materials[d.material_index].get();
     dm.cells = cs->second;
     dm.first_point.assign(dm.cells.size() + 1, 0);
     for (std::size_t c = 0; c < dm.cells.size(); ++c) {
       const int cell = dm.cells[c];
       if (owner[cell] >= 0)
-        throw Error(location(*t.get("cells")), ctx + " cell " + std::to_string(cell) +
-                                                   " already belongs to [[domains]] #" +
-                                                   std::to_string(owner[cell] + 1));
+        throw Error(d.cells_at, ctx + " cell " + std::to_string(cell) + " already belongs to [[domains]] #" +
+                                    std::to_string(owner[cell] + 1));
       owner[cell] = static_cast<int>(i);
       const unsigned shape = model.mesh.cells[cell].shape();
       try {
@@ -115,7 +133,7 @@ void Analysis::Impl::read_domains(const toml::table& root) {
         model.cell_nodes(cell, cn, cx);
         dm.element->check_geometry(ElementData{cell, shape, &cx});
       } catch (const Error& e) {
-        throw Error(location(*t.get("element")), ctx + " cell " + std::to_string(cell) + ": " + e.message());
+        throw Error(d.element_at, ctx + " cell " + std::to_string(cell) + ": " + e.message());
       }
       dm.first_point[c + 1] = dm.first_point[c] + static_cast<std::size_t>(dm.element->num_points(shape));
     }
@@ -131,41 +149,51 @@ void Analysis::Impl::read_domains(const toml::table& root) {
   // the whole run (found on 997ba04: `check` said ok, then the run failed with a Newton message).
   // A warning, not an error: leaving cells of a generated mesh out is a way to model a cavity
   // (the pile mesher's pile cells in a soil-only analysis).
-  if (auto w = domain_cover(model.mesh, owner, location(*root.get("domains"))); !w.empty())
-    warnings.push_back(std::move(w));
+  if (auto w = domain_cover(model.mesh, owner, sc.domains_at); !w.empty()) warnings.push_back(std::move(w));
 }
 
-void Analysis::Impl::read_constraints(const toml::table& root) {
-  // ---- constraints
+void scene::read_constraints(const toml::table& root, Scene& sc) {
+  for (const auto* t : table_list(root, "constraints")) {
+    const std::string ctx = "[[constraints]] at line " + std::to_string(location(*t).line);
+    ConstraintSpec c;
+    c.at = location(*t);
+    c.nodes = require_string(*t, "nodes", ctx);
+    c.nodes_at = location(*t->get("nodes"));
+    const auto p = check_table(*t, scene::constraint_schema(), "[[constraints]]");
+    for (int k = 0; k < 2; ++k) {
+      const char* key = k == 0 ? "ux" : "uy";
+      if (!t->get(key)) continue;
+      c.value[static_cast<std::size_t>(k)] = p.real(key);
+      c.value_at[static_cast<std::size_t>(k)] = p.where(key);
+    }
+    if (!c.value[0] && !c.value[1])
+      throw Error(c.at, "[[constraints]] nodes = \"" + c.nodes + "\" constrains nothing; give ux and/or uy");
+    sc.constraints.push_back(std::move(c));
+  }
+}
+
+void Analysis::Impl::build_constraints(const scene::Scene& sc) {
   const auto ndof = static_cast<Eigen::Index>(model.mesh.nodes.size() * DofMap::per_node);
   std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
   model.prescribed = Eigen::VectorXd::Zero(ndof);
-  for (const auto* t : table_list(root, "constraints")) {
-    const std::string ctx = "[[constraints]] at line " + std::to_string(location(*t).line);
-    const std::string set = require_string(*t, "nodes", ctx);
-    auto ns = model.mesh.node_sets.find(set);
+  for (const auto& c : sc.constraints) {
+    auto ns = model.mesh.node_sets.find(c.nodes);
     if (ns == model.mesh.node_sets.end())
-      throw Error(location(*t->get("nodes")),
-                  "[[constraints]] nodes = \"" + set +
-                      "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets, set));
-    const auto p = check_table(*t, scene::constraint_schema(), "[[constraints]]");
-    bool any = false;
-    for (int c = 0; c < 2; ++c) {
-      const char* k = c == 0 ? "ux" : "uy";
-      if (!t->get(k)) continue;
-      any = true;
+      throw Error(c.nodes_at,
+                  "[[constraints]] nodes = \"" + c.nodes +
+                      "\" is not a node set of the mesh; known: " + key_list(model.mesh.node_sets, c.nodes));
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (!c.value[k]) continue;
+      const double v = *c.value[k];
       for (int n : ns->second) {
-        const auto d = static_cast<std::size_t>(n) * 2 + static_cast<std::size_t>(c);
-        if (fixed[d] && model.prescribed[static_cast<Eigen::Index>(d)] != p.real(k))
-          throw Error(p.where(k), "[[constraints]] " + std::string(k) + " on node " + std::to_string(n) +
-                                      " contradicts an earlier constraint");
+        const auto d = static_cast<std::size_t>(n) * 2 + k;
+        if (fixed[d] && model.prescribed[static_cast<Eigen::Index>(d)] != v)
+          throw Error(c.value_at[k], "[[constraints]] " + std::string(k == 0 ? "ux" : "uy") + " on node " +
+                                         std::to_string(n) + " contradicts an earlier constraint");
         fixed[d] = 1;
-        model.prescribed[static_cast<Eigen::Index>(d)] = p.real(k);
+        model.prescribed[static_cast<Eigen::Index>(d)] = v;
       }
     }
-    if (!any)
-      throw Error(location(*t),
-                  "[[constraints]] nodes = \"" + set + "\" constrains nothing; give ux and/or uy");
   }
   // Nodes that no active cell uses carry no stiffness: rebuild_dofs() fixes them too.
   model.constrained = fixed;

@@ -1,7 +1,9 @@
-// Reading a scene: the top level, the plugin path, [analysis], [convergence], [output] and the
-// solver; the other sections in read_mesh.cpp, read_domains.cpp and read_stages.cpp.
+// Reading a scene (scene.hpp): the top level, the plugin path, [analysis], [convergence], [output]
+// and the solver here; the other sections in read_mesh.cpp, read_domains.cpp, body_interfaces.cpp
+// and read_stages.cpp. Building the run's state from the Scene: Analysis::Impl::build below.
 #include "analysis_impl.hpp"
 #include "scene/plugin_table.hpp"
+#include "scene/scene.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"
 #include "toml_check.hpp"
@@ -10,6 +12,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -59,12 +62,51 @@ Units scene_units(const std::string& scene_path) {
   return read_units(io::parse_with_includes(ss.str(), scene_path));
 }
 
-void Analysis::Impl::build(const toml::table& root) {
-  // The framework's own stage actions and mesh generators are registered like a plugin's.
-  register_builtin_factories(registry);
+namespace {
 
-  // ---- top level
-  // title and the sections (scene/schemas.cpp top_keys; `include` is merged away before this)
+/// Every string value of a table, at any depth.
+void strings_of(const toml::node& n, std::set<std::string>& out) {
+  if (const auto* s = n.as_string()) out.insert(s->get());
+  if (const auto* t = n.as_table())
+    for (auto&& [k, v] : *t) strings_of(v, out);
+  if (const auto* a = n.as_array())
+    for (const auto& v : *a) strings_of(v, out);
+}
+
+} // namespace
+
+std::vector<std::string> scene::plugin_directories(const toml::table& root, const std::string& path,
+                                                   const RunOptions& options) {
+  std::vector<std::string> dirs =
+      options.plugin_dirs.empty() ? PluginCatalog::default_directories() : options.plugin_dirs;
+  const auto& pt = optional_table(root, "plugins");
+  const TableKeys plugin_keys = plugins_keys(); // path only
+  for (auto&& [key, value] : pt) {
+    if (key.str() != plugin_keys.other.at(0).name)
+      throw Error(location(key.source()),
+                  "[plugins] unknown key '" + std::string(key.str()) + "'; allowed: path");
+    const auto* a = value.as_array();
+    if (!a) throw Error(location(value), "[plugins] path must be an array of directory strings");
+    std::vector<std::string> extra;
+    for (const auto& e : *a) {
+      if (!e.is_string()) throw Error(location(e), "[plugins] path entries must be strings");
+      fs::path d = e.as_string()->get();
+      if (d.is_relative()) d = fs::path(path).parent_path() / d;
+      extra.push_back(d.string());
+    }
+    dirs.insert(dirs.begin(), extra.begin(), extra.end());
+  }
+  return dirs;
+}
+
+scene::Scene scene::read(const toml::table& root, const std::string& path, PluginCatalog& catalog,
+                         Registry& registry) {
+  Scene sc;
+  sc.path = path;
+  sc.at = location(root);
+
+  // ---- top level: title and the sections (scene/schemas.cpp top_keys; `include` is merged
+  // away before this)
   const TableKeys top = scene::top_keys();
   std::vector<std::string_view> top_keys = key_names(top.schema);
   for (const auto& k : top.other)
@@ -80,44 +122,23 @@ void Analysis::Impl::build(const toml::table& root) {
   }
   if (const auto* t = root.get("title")) {
     if (!t->is_string()) throw Error(location(*t), "title must be a string");
-    title = t->as_string()->get();
+    sc.title = t->as_string()->get();
   }
-
-  // ---- plugins: search path
-  std::vector<std::string> dirs =
-      options.plugin_dirs.empty() ? PluginCatalog::default_directories() : options.plugin_dirs;
-  {
-    const auto& pt = optional_table(root, "plugins");
-    const TableKeys plugin_keys = plugins_keys(); // path only
-    for (auto&& [key, value] : pt) {
-      if (key.str() != plugin_keys.other.at(0).name)
-        throw Error(location(key.source()),
-                    "[plugins] unknown key '" + std::string(key.str()) + "'; allowed: path");
-      const auto* a = value.as_array();
-      if (!a) throw Error(location(value), "[plugins] path must be an array of directory strings");
-      std::vector<std::string> extra;
-      for (const auto& e : *a) {
-        if (!e.is_string()) throw Error(location(e), "[plugins] path entries must be strings");
-        fs::path d = e.as_string()->get();
-        if (d.is_relative()) d = fs::path(path).parent_path() / d;
-        extra.push_back(d.string());
-      }
-      dirs.insert(dirs.begin(), extra.begin(), extra.end());
-    }
-  }
-  catalog = std::make_unique<PluginCatalog>(dirs);
 
   // ---- units (stratum/units.hpp): before anything whose defaults they convert
-  units = read_units(root);
+  sc.units = read_units(root);
+  const Units& units = sc.units;
 
   // ---- analysis, convergence, output
+  Settings& s = sc.settings;
   const auto ap = check_table(optional_table(root, "analysis"), analysis_schema(), "[analysis]");
-  model.formulation =
+  s.formulation =
       ap.text("formulation") == "axisymmetric" ? Formulation::axisymmetric : Formulation::plane_strain;
-  linear_solver = ap.text("linear_solver");
-  reuse_linear_stiffness = ap.flag("reuse_linear_stiffness");
-  reuse_symbolic = ap.flag("reuse_symbolic");
-  threads = resolve_threads(ap.integer("threads"));
+  s.linear_solver = ap.text("linear_solver");
+  s.reuse_linear_stiffness = ap.flag("reuse_linear_stiffness");
+  s.reuse_symbolic = ap.flag("reuse_symbolic");
+  s.threads = resolve_threads(ap.integer("threads"));
+  StepSettings& stepping = s.stepping;
   stepping.steps = static_cast<int>(ap.integer("steps"));
   stepping.max_cutbacks = static_cast<int>(ap.integer("max_cutbacks"));
   stepping.increments = ap.real_list("increments");
@@ -133,6 +154,7 @@ void Analysis::Impl::build(const toml::table& root) {
   stepping.error_tolerance = ap.real("error_tolerance");
   const auto cp =
       check_table(optional_table(root, "convergence"), convergence_schema(), "[convergence]", {}, units);
+  Convergence& convergence = s.convergence;
   convergence.force_rtol = cp.real("force_rtol");
   convergence.force_atol = cp.real("force_atol");
   convergence.disp_rtol = cp.real("disp_rtol");
@@ -144,45 +166,75 @@ void Analysis::Impl::build(const toml::table& root) {
   const TableKeys output = output_keys();
   const auto op =
       check_table(optional_table(root, "output"), output.schema, "[output]", output.other_names());
-  vtk = op.flag("vtk");
-  ip_output = op.flag("integration_points");
-  every = static_cast<int>(op.integer("every"));
-  tables_every = op.real("tables_every");
-  pile_cells = op.text("pile_cells");
-  const SourceLocation pile_cells_at = op.where("pile_cells");
+  s.vtk = op.flag("vtk");
+  s.ip_output = op.flag("integration_points");
+  s.every = static_cast<int>(op.integer("every"));
+  s.tables_every = op.real("tables_every");
+  s.pile_cells = op.text("pile_cells");
+  s.pile_cells_at = op.where("pile_cells");
 
-  // ---- solver plugin
+  // ---- solver plugin: its table checked now, the solver created per stage (run_stage)
   {
     const std::string name = ap.text("solver");
-    const auto made = scene::plugin_table<Solver>(
-        *catalog, registry, name, ap.where("solver").known() ? ap.where("solver") : location(root),
+    sc.solver = scene::plugin_table<Solver>(
+        catalog, registry, name, ap.where("solver").known() ? ap.where("solver") : location(root),
         "[analysis] solver = \"" + name + "\"", optional_table(root, "solver"), "[solver]", {}, units);
-    solver_factory = made.factory;
-    solver_params = made.params;
-    solver = made.create(); // checks the parameters now; each stage gets its own (run_stage)
   }
 
-  read_mesh(root, pile_cells_at);
-  read_domains(root);
-  read_scene_interfaces(root, *catalog, registry, model, interfaces, units);
-  read_constraints(root);
-  read_stages(root);
+  sc.mesh = read_mesh(root, path, catalog, registry, units);
+  read_domains(root, catalog, registry, sc);
+  read_interfaces(root, catalog, registry, sc);
+  read_constraints(root, sc);
+  read_stages(root, catalog, registry, sc);
 
-  // Recorders and checks (recorders.hpp).
+  // ---- recorders and checks (recorders.hpp)
   {
     const auto list = table_list(optional_table(root, "output"), "history");
     for (std::size_t i = 0; i < list.size(); ++i) {
-      recorders.emplace_back(*list[i], "[[output.history]] #" + std::to_string(i + 1), model, units);
-      for (std::size_t j = 0; j + 1 < recorders.size(); ++j)
-        if (recorders[j].name() == recorders.back().name())
+      sc.history.push_back(read_recorder(*list[i], "[[output.history]] #" + std::to_string(i + 1), units));
+      for (std::size_t j = 0; j + 1 < sc.history.size(); ++j)
+        if (sc.history[j].name == sc.history.back().name)
           throw Error(location(*list[i]), "[[output.history]] #" + std::to_string(i + 1) + " name = \"" +
-                                              recorders.back().name() +
+                                              sc.history.back().name +
                                               "\" is used twice; names must be unique");
     }
     const auto cl = table_list(root, "checks");
     for (std::size_t i = 0; i < cl.size(); ++i)
-      checks.push_back(parse_check(*cl[i], "[[checks]] #" + std::to_string(i + 1), recorders));
+      sc.checks.push_back(parse_check(*cl[i], "[[checks]] #" + std::to_string(i + 1), sc.history));
   }
+
+  strings_of(root, sc.strings);
+  sc.parts = scene_parts(root, STRATUM_VERSION);
+  return sc;
+}
+
+void Analysis::Impl::build(scene::Scene sc) {
+  title = sc.title;
+  units = sc.units;
+  const scene::Settings& s = sc.settings;
+  model.formulation = s.formulation;
+  linear_solver = s.linear_solver;
+  reuse_linear_stiffness = s.reuse_linear_stiffness;
+  reuse_symbolic = s.reuse_symbolic;
+  threads = s.threads;
+  stepping = s.stepping;
+  convergence = s.convergence;
+  vtk = s.vtk;
+  ip_output = s.ip_output;
+  every = s.every;
+  tables_every = s.tables_every;
+  pile_cells = s.pile_cells;
+  solver_factory = sc.solver.factory;
+  solver_params = sc.solver.params;
+  solver = sc.solver.create(); // checks the parameters now; each stage gets its own (run_stage)
+
+  build_mesh(sc);
+  build_domains(sc);
+  build_scene_interfaces(sc, model, interfaces);
+  build_constraints(sc);
+  build_stages(sc);
+  for (const auto& r : sc.history) recorders.emplace_back(r, model);
+  checks = std::move(sc.checks);
 
   // What a checkpoint must match: mesh size, domain layout, stage names.
   std::ostringstream fp;
@@ -192,7 +244,9 @@ void Analysis::Impl::build(const toml::table& root) {
   fp << " stages";
   for (const auto& st : stages) fp << ' ' << st.name;
   fingerprint = fp.str();
-  parts = scene_parts(root, model.mesh, STRATUM_VERSION);
+  parts = std::move(sc.parts);
+  for (auto& part : parts)
+    if (part.name == mesh_part_name) part.digest = mesh_digest(model.mesh);
 }
 
 } // namespace stratum

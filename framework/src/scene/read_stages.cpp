@@ -1,6 +1,8 @@
-// Reading [[stages]] (or the [[loads]] of a scene without stages) and what a stage inherits.
+// [[stages]] (or the [[loads]] of a scene without stages) and what a stage inherits: read into
+// the Scene (scene.hpp), then built (actions created and checked against the mesh in order).
 #include "analysis_impl.hpp"
 #include "scene/plugin_table.hpp"
+#include "scene/scene.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"
 #include "stages/builtin_actions.hpp"
@@ -18,105 +20,19 @@ using io::location;
 using io::require_string;
 using scene::table_list;
 
-void Analysis::Impl::read_stages(const toml::table& root) {
-  const auto ndof = static_cast<Eigen::Index>(model.mesh.nodes.size() * DofMap::per_node);
-  // ---- loads of a scene without stages, and the stages
-  const auto legacy_loads = table_list(root, "loads");
-  const auto stage_list = table_list(root, "stages");
-  if (const auto* st = root.get("stages"); st && stage_list.empty())
-    throw Error(location(*st), "stages = [] holds no stage; give at least one [[stages]] table, or leave "
-                               "the key out and load the scene with [[loads]]");
-  // Nothing holds the model: its matrix is singular (found on 997ba04: one "converged" iteration).
-  // A head pushed down by a prescribed settlement holds it too.
-  if (table_list(root, "constraints").empty()) {
-    bool prescribed = false;
-    for (const auto* st : stage_list)
-      for (const auto* a : table_list(*st, "actions")) prescribed = prescribed || a->get("settlement");
-    if (!prescribed)
-      throw Error(location(root),
-                  "the scene has no [[constraints]]: nothing holds the model against rigid-body "
-                  "motion (its matrix is singular); fix some nodes, e.g. [[constraints]] nodes = "
-                  "\"bottom\", ux = 0.0, uy = 0.0");
-  }
-  // A scene without stages whose [[loads]] are absent and whose constraints prescribe nothing.
-  if (stage_list.empty() && legacy_loads.empty() && model.prescribed.cwiseAbs().maxCoeff() == 0.0)
-    throw Error(location(root), "the scene applies nothing: no [[loads]], no [[stages]] and no non-zero "
-                                "[[constraints]] value; a run would solve a zero load");
-  if (!stage_list.empty() && !legacy_loads.empty())
-    throw Error(location(*legacy_loads.front()),
-                "[[loads]] cannot be combined with [[stages]]; give loads as actions of a stage");
-  initial_prescribed = model.prescribed;
-  model.prescribed_base = Eigen::VectorXd::Zero(ndof);
-  model.load_base = Eigen::VectorXd::Zero(ndof);
-  model.load_ref = Eigen::VectorXd::Zero(ndof);
-  std::set<std::string> load_names;
-  if (stage_list.empty()) {
-    stage::Stage st;
-    st.name = "load";
-    st.where = location(root);
-    st.steps = stepping.steps;
-    st.increments = stepping.increments;
-    st.max_cutbacks = stepping.max_cutbacks;
-    st.error_tolerance = stepping.error_tolerance;
-    st.every = every;
-    st.vtk = vtk;
-    st.checkpoint = false;
-    // [[loads]]: the loads of a scene without stages, read by the pressure, force and gravity actions.
-    const Schema load_keys = scene::loads_schema();
-    const ParamSpec& load_type_spec = *load_keys.find("type");
-    for (std::size_t i = 0; i < legacy_loads.size(); ++i) {
-      const auto& t = *legacy_loads[i];
-      const std::string type = require_string(t, "type", "[[loads]]");
-      const std::string ctx = "[[loads]] type = \"" + type + "\"";
-      if (type == "load") throw Error(location(*t.get("type")), ctx + " is only allowed as a stage action");
-      const auto& load_types = load_type_spec.choices; // pressure, force, gravity
-      if (std::find(load_types.begin(), load_types.end(), type) == load_types.end())
-        throw Error(location(*t.get("type")), ctx + " is not allowed; allowed: " + load_type_spec.allowed());
-      st.actions.push_back(
-          parse_action(t, "[[loads]]", "load#" + std::to_string(i + 1), load_names, st.reset_after));
-    }
-    stages.push_back(std::move(st));
-  } else {
-    for (std::size_t i = 0; i < stage_list.size(); ++i)
-      stages.push_back(parse_stage(*stage_list[i], "[[stages]] #" + std::to_string(i + 1), load_names));
-    // What a stage inherits (docs/scene.md "What a stage inherits"): [analysis] max_cutbacks,
-    // error_tolerance, the step-control keys, and [output] vtk and every are defaults of every
-    // stage; [analysis] steps and increments describe the one load case of a scene without
-    // stages and cannot act here (found on 997ba04: steps = 10 silently ran 1 step per stage).
-    if (const auto* at = root["analysis"].as_table())
-      for (const char* key : {"steps", "increments"})
-        if (const auto* v = at->get(key))
-          throw Error(location(*v), std::string("[analysis] ") + key +
-                                        " cannot act in a scene with [[stages]]: each stage gives its own " +
-                                        key + " (steps default to 1); move it into the stages");
-    // A stage that may end the run early (until_failure, stop_settlement) must be the last one:
-    // otherwise the later stages would silently never run.
-    for (std::size_t i = 0; i + 1 < stages.size(); ++i)
-      if (stages[i].until_failure || stages[i].stop_settlement > 0)
-        throw Error(stages[i].where,
-                    "[[stages]] \"" + stages[i].name + "\" has " +
-                        (stages[i].until_failure ? "until_failure = true" : "stop_settlement") +
-                        ", which ends the run, but stage \"" + stages[i + 1].name +
-                        "\" follows it; only the last stage may load to failure or to a "
-                        "settlement limit");
-    std::set<std::string> seen;
-    for (const auto& st : stages)
-      if (!seen.insert(st.name).second)
-        throw Error(st.where,
-                    "[[stages]] name = \"" + st.name + "\" is used twice; stage names must be unique");
-  }
-}
+namespace {
 
-std::unique_ptr<StageAction> Analysis::Impl::parse_action(const toml::table& at, const std::string& actx,
-                                                          const std::string& default_load_name,
-                                                          std::set<std::string>& load_names,
-                                                          bool& reset_after) {
+/// One [[stages.actions]] (or [[loads]]) table: its action's factory from the registry by `type`
+/// and the table checked against the action's schema.
+scene::ActionSpec read_action(const toml::table& at, const std::string& actx,
+                              const std::string& default_load_name, PluginCatalog& catalog,
+                              Registry& registry, const Units& units) {
   const Schema action_keys = scene::action_schema(); // type (the action's own keys follow its schema)
   const std::string type = require_string(at, "type", actx);
   const std::string ctx = actx + " type = \"" + type + "\"";
   const SourceLocation type_at = location(*at.get("type"));
   if (!registry.has(PluginKind::stage_action, type)) {
-    const auto plugins = catalog->known(PluginKind::stage_action);
+    const auto plugins = catalog.known(PluginKind::stage_action);
     if (std::find(plugins.begin(), plugins.end(), type) == plugins.end()) {
       std::vector<std::string> all = stage::builtin_action_types();
       for (const auto& list : {registry.names(PluginKind::stage_action), plugins})
@@ -127,20 +43,18 @@ std::unique_ptr<StageAction> Analysis::Impl::parse_action(const toml::table& at,
       throw Error(type_at, ctx + " is not allowed; allowed: one of: " + allowed + did_you_mean(type, all));
     }
   }
-  auto action = scene::plugin_from_table<StageAction>(*catalog, registry, type, type_at, ctx, at, ctx,
-                                                      scene::key_names(action_keys), units);
-  StageCheck check{model.mesh, ctx, location(at), load_names, default_load_name, false};
-  action->check(check);
-  reset_after = reset_after || check.reset_after;
-  return action;
+  return {ctx, default_load_name, location(at),
+          scene::plugin_table<StageAction>(catalog, registry, type, type_at, ctx, at, ctx,
+                                           scene::key_names(action_keys), units)};
 }
 
-stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string& ctx,
-                                         std::set<std::string>& load_names) {
-  const scene::TableKeys keys =
-      scene::stage_keys(stepping.max_cutbacks, stepping.error_tolerance, vtk, static_cast<long long>(every));
+scene::StageSpec read_stage(const toml::table& t, const std::string& ctx, const scene::Settings& s,
+                            PluginCatalog& catalog, Registry& registry, const Units& units) {
+  const scene::TableKeys keys = scene::stage_keys(s.stepping.max_cutbacks, s.stepping.error_tolerance, s.vtk,
+                                                  static_cast<long long>(s.every));
   const auto p = check_table(t, keys.schema, ctx, keys.other_names(), units);
-  stage::Stage st;
+  scene::StageSpec spec;
+  stage::Stage& st = spec.settings;
   st.name = p.text("name");
   st.where = location(t);
   st.steps = static_cast<int>(p.integer("steps"));
@@ -165,10 +79,7 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
                 ctx + " collapse_stiffness acts only in a stage with until_failure = true");
   st.stop_settlement = p.real("stop_settlement");
   st.monitor = p.text("monitor");
-  if (!st.monitor.empty() && !model.mesh.node_sets.count(st.monitor))
-    throw Error(p.where("monitor"),
-                ctx + " monitor = \"" + st.monitor +
-                    "\" is not a node or edge set of the mesh; known: " + key_list(model.mesh.node_sets));
+  spec.monitor_at = p.where("monitor");
   st.vtk = p.flag("vtk");
   st.every = static_cast<int>(p.integer("every"));
   st.checkpoint = p.flag("checkpoint");
@@ -177,9 +88,128 @@ stage::Stage Analysis::Impl::parse_stage(const toml::table& t, const std::string
   for (std::size_t i = 0; i < actions.size(); ++i) {
     const std::string actx = ctx + " [[stages.actions]] #" + std::to_string(i + 1);
     const std::string type = require_string(*actions[i], "type", actx);
-    st.actions.push_back(parse_action(*actions[i], actx, type + "@" + st.name, load_names, st.reset_after));
+    spec.actions.push_back(read_action(*actions[i], actx, type + "@" + st.name, catalog, registry, units));
   }
-  return st;
+  return spec;
+}
+
+} // namespace
+
+void scene::read_stages(const toml::table& root, PluginCatalog& catalog, Registry& registry, Scene& sc) {
+  // ---- loads of a scene without stages, and the stages
+  const auto legacy_loads = table_list(root, "loads");
+  const auto stage_list = table_list(root, "stages");
+  if (const auto* st = root.get("stages"); st && stage_list.empty())
+    throw Error(location(*st), "stages = [] holds no stage; give at least one [[stages]] table, or leave "
+                               "the key out and load the scene with [[loads]]");
+  // Nothing holds the model: its matrix is singular (found on 997ba04: one "converged" iteration).
+  // A head pushed down by a prescribed settlement holds it too.
+  if (sc.constraints.empty()) {
+    bool prescribed = false;
+    for (const auto* st : stage_list)
+      for (const auto* a : table_list(*st, "actions")) prescribed = prescribed || a->get("settlement");
+    if (!prescribed)
+      throw Error(location(root),
+                  "the scene has no [[constraints]]: nothing holds the model against rigid-body "
+                  "motion (its matrix is singular); fix some nodes, e.g. [[constraints]] nodes = "
+                  "\"bottom\", ux = 0.0, uy = 0.0");
+  }
+  // A scene without stages whose [[loads]] are absent and whose constraints prescribe nothing.
+  bool moves = false;
+  for (const auto& c : sc.constraints)
+    for (const auto& v : c.value) moves = moves || (v && *v != 0.0);
+  if (stage_list.empty() && legacy_loads.empty() && !moves)
+    throw Error(location(root), "the scene applies nothing: no [[loads]], no [[stages]] and no non-zero "
+                                "[[constraints]] value; a run would solve a zero load");
+  if (!stage_list.empty() && !legacy_loads.empty())
+    throw Error(location(*legacy_loads.front()),
+                "[[loads]] cannot be combined with [[stages]]; give loads as actions of a stage");
+  const Settings& s = sc.settings;
+  sc.staged = !stage_list.empty();
+  if (stage_list.empty()) {
+    StageSpec spec;
+    stage::Stage& st = spec.settings;
+    st.name = "load";
+    st.where = location(root);
+    st.steps = s.stepping.steps;
+    st.increments = s.stepping.increments;
+    st.max_cutbacks = s.stepping.max_cutbacks;
+    st.error_tolerance = s.stepping.error_tolerance;
+    st.every = s.every;
+    st.vtk = s.vtk;
+    st.checkpoint = false;
+    // [[loads]]: the loads of a scene without stages, read by the pressure, force and gravity actions.
+    const Schema load_keys = scene::loads_schema();
+    const ParamSpec& load_type_spec = *load_keys.find("type");
+    for (std::size_t i = 0; i < legacy_loads.size(); ++i) {
+      const auto& t = *legacy_loads[i];
+      const std::string type = require_string(t, "type", "[[loads]]");
+      const std::string ctx = "[[loads]] type = \"" + type + "\"";
+      if (type == "load") throw Error(location(*t.get("type")), ctx + " is only allowed as a stage action");
+      const auto& load_types = load_type_spec.choices; // pressure, force, gravity
+      if (std::find(load_types.begin(), load_types.end(), type) == load_types.end())
+        throw Error(location(*t.get("type")), ctx + " is not allowed; allowed: " + load_type_spec.allowed());
+      spec.actions.push_back(
+          read_action(t, "[[loads]]", "load#" + std::to_string(i + 1), catalog, registry, sc.units));
+    }
+    sc.stages.push_back(std::move(spec));
+    return;
+  }
+  for (std::size_t i = 0; i < stage_list.size(); ++i)
+    sc.stages.push_back(
+        read_stage(*stage_list[i], "[[stages]] #" + std::to_string(i + 1), s, catalog, registry, sc.units));
+  // What a stage inherits (docs/scene.md "What a stage inherits"): [analysis] max_cutbacks,
+  // error_tolerance, the step-control keys, and [output] vtk and every are defaults of every
+  // stage; [analysis] steps and increments describe the one load case of a scene without
+  // stages and cannot act here (found on 997ba04: steps = 10 silently ran 1 step per stage).
+  if (const auto* at = root["analysis"].as_table())
+    for (const char* key : {"steps", "increments"})
+      if (const auto* v = at->get(key))
+        throw Error(location(*v), std::string("[analysis] ") + key +
+                                      " cannot act in a scene with [[stages]]: each stage gives its own " +
+                                      key + " (steps default to 1); move it into the stages");
+  // A stage that may end the run early (until_failure, stop_settlement) must be the last one:
+  // otherwise the later stages would silently never run.
+  for (std::size_t i = 0; i + 1 < sc.stages.size(); ++i) {
+    const stage::Stage& st = sc.stages[i].settings;
+    if (st.until_failure || st.stop_settlement > 0)
+      throw Error(st.where, "[[stages]] \"" + st.name + "\" has " +
+                                (st.until_failure ? "until_failure = true" : "stop_settlement") +
+                                ", which ends the run, but stage \"" + sc.stages[i + 1].settings.name +
+                                "\" follows it; only the last stage may load to failure or to a "
+                                "settlement limit");
+  }
+  std::set<std::string> seen;
+  for (const auto& spec : sc.stages)
+    if (!seen.insert(spec.settings.name).second)
+      throw Error(spec.settings.where, "[[stages]] name = \"" + spec.settings.name +
+                                           "\" is used twice; stage names must be unique");
+}
+
+void Analysis::Impl::build_stages(scene::Scene& sc) {
+  const auto ndof = static_cast<Eigen::Index>(model.mesh.nodes.size() * DofMap::per_node);
+  initial_prescribed = model.prescribed;
+  model.prescribed_base = Eigen::VectorXd::Zero(ndof);
+  model.load_base = Eigen::VectorXd::Zero(ndof);
+  model.load_ref = Eigen::VectorXd::Zero(ndof);
+  // The actions are created and checked against the mesh in the scene's order: the loads a
+  // stage names must have been applied by an earlier action.
+  std::set<std::string> load_names;
+  for (auto& spec : sc.stages) {
+    stage::Stage st = std::move(spec.settings);
+    if (!st.monitor.empty() && !model.mesh.node_sets.count(st.monitor))
+      throw Error(spec.monitor_at,
+                  "[[stages]] #" + std::to_string(stages.size() + 1) + " monitor = \"" + st.monitor +
+                      "\" is not a node or edge set of the mesh; known: " + key_list(model.mesh.node_sets));
+    for (const auto& a : spec.actions) {
+      auto action = a.plugin.create();
+      StageCheck check{model.mesh, a.context, a.at, load_names, a.default_load_name, false};
+      action->check(check);
+      st.reset_after = st.reset_after || check.reset_after;
+      st.actions.push_back(std::move(action));
+    }
+    stages.push_back(std::move(st));
+  }
 }
 
 } // namespace stratum

@@ -59,8 +59,9 @@ std::string mesh_text(const Mesh& m) {
 
 } // namespace
 
-std::vector<FingerprintPart> scene_parts(const toml::table& root, const Mesh& mesh,
-                                         const std::string& program_version) {
+std::string mesh_digest(const Mesh& mesh) { return digest_of(mesh_text(mesh)); }
+
+std::vector<FingerprintPart> scene_parts(const toml::table& root, const std::string& program_version) {
   std::vector<FingerprintPart> parts;
   auto add = [&](std::string name, const std::string& text, int stage, SourceLocation where) {
     parts.push_back({std::move(name), digest_of(text), stage, std::move(where)});
@@ -72,8 +73,8 @@ std::vector<FingerprintPart> scene_parts(const toml::table& root, const Mesh& me
   add("[analysis] formulation", formulation, -1, io::location(root));
   // [units] only when a scene has them: checkpoints of kN, m scenes stay as they were.
   if (const auto* u = root.get("units")) add("[units]", canonical(*u), -1, io::location(*u));
-  add("the mesh (nodes, cells and sets as built)", mesh_text(mesh), -1,
-      root.get("mesh") ? io::location(*root.get("mesh")) : io::location(root));
+  parts.push_back(
+      {mesh_part_name, "", -1, root.get("mesh") ? io::location(*root.get("mesh")) : io::location(root)});
   for (const char* group : {"materials", "contact_laws"})
     if (const auto* t = root[group].as_table())
       for (auto&& [key, value] : *t)

@@ -30,10 +30,16 @@ struct FingerprintPart {
 /// 16 hex digits of the 64-bit FNV-1a hash of `text`.
 [[nodiscard]] std::string digest_of(const std::string& text);
 
-/// The parts of a scene: `root` its TOML, `mesh` the built mesh, `stage_tables` the [[stages]]
-/// tables (empty for a scene without stages: the [[loads]] then form stage 0).
-[[nodiscard]] std::vector<FingerprintPart> scene_parts(const toml::table& root, const Mesh& mesh,
+/// The parts of a scene: `root` its TOML (the [[stages]] tables, or the [[loads]] of a scene
+/// without stages as stage 0). The mesh's part (its name is mesh_part_name) has an empty digest
+/// until the mesh is built: set it to mesh_digest() of the built mesh.
+[[nodiscard]] std::vector<FingerprintPart> scene_parts(const toml::table& root,
                                                        const std::string& program_version);
+
+inline constexpr const char* mesh_part_name = "the mesh (nodes, cells and sets as built)";
+
+/// The digest of a built mesh: coordinates, cells and sets, after interface splits.
+[[nodiscard]] std::string mesh_digest(const Mesh& mesh);
 
 /// The first part of `saved` (a checkpoint's, written after `stages_done` stages) that the scene's
 /// `current` parts do not reproduce, as a message; "" when they agree.

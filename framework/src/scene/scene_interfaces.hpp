@@ -28,12 +28,15 @@ struct SceneInterfaces {
   std::vector<Named> interfaces;
 };
 
-/// Builds the contact laws, splits the mesh along every [[interfaces]] entry (see
+namespace scene {
+struct Scene;
+}
+
+/// Creates the contact laws, splits the mesh along every [[interfaces]] entry (see
 /// split_interface) and appends one Domain per interface to the model. Call after the
-/// [[domains]] are built and before constraints are read (the node sets <name>.side1/.side2
-/// exist afterwards). Throws Error with file:line:col on bad input.
-/// `units` are the scene's ([units]; defaults of the laws' parameters convert into them).
-void read_scene_interfaces(const toml::table& root, PluginCatalog& catalog, Registry& registry, Model& model,
-                           SceneInterfaces& out, const Units& units = {});
+/// [[domains]] are built and before the constraints (the node sets <name>.side1/.side2
+/// exist afterwards). Throws Error with file:line:col when a set the scene names is not in the
+/// mesh or an element does not fit the interface cells.
+void build_scene_interfaces(const scene::Scene& scene, Model& model, SceneInterfaces& out);
 
 } // namespace stratum
