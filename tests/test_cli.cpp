@@ -1,6 +1,7 @@
 // The program as a user runs it: bad input gives one line with file:line:col,
 // what is wrong and what is allowed, and a non-zero exit code.
 #include <catch2/catch.hpp>
+#include <toml++/toml.h>
 
 #include <sys/wait.h>
 
@@ -426,6 +427,30 @@ TEST_CASE("an until_failure stage tells a collapse (exit 0) from a numerical sto
   CHECK(numerical.out.find("this is not a collapse load") != std::string::npos);
   // A numerical stop keeps what was computed: the diagnostics are written.
   CHECK(fs::exists(scratch() / "hill_numerical" / "diagnostics.csv"));
+  // summary.toml beside the results says how each run ended (output/write_summary.cpp).
+  {
+    const auto c = toml::parse_file((scratch() / "hill_collapse" / "summary.toml").string());
+    CHECK(c["ended"].value_or(std::string()) == "stopped");
+    CHECK(c["stop_reason"].value_or(std::string()) == "collapse");
+    CHECK(c["status"].value_or(std::string()) == "ok");
+    CHECK(c["stiffness_ratio"].value_or(1.0) < 0.1); // below the stage's collapse_stiffness
+    const auto n = toml::parse_file((scratch() / "hill_numerical" / "summary.toml").string());
+    CHECK(n["ended"].value_or(std::string()) == "stopped");
+    CHECK(n["stop_reason"].value_or(std::string()) == "numerical");
+    CHECK(n["stop_message"].value_or(std::string()).find("did not converge") != std::string::npos);
+  }
+  // Outside an until_failure stage the same failure ends the run as failed: exit 4, and the
+  // summary names the status and the failed step.
+  std::string failing = two;
+  failing.replace(failing.find("until_failure = true"), 20, "until_failure = false");
+  const auto failed = stratum("run " + write_scene("hill_failed.toml", failing) + " --out hill_failed");
+  INFO(failed.out << failed.err);
+  CHECK(failed.code != 0);
+  const auto f = toml::parse_file((scratch() / "hill_failed" / "summary.toml").string());
+  CHECK(f["ended"].value_or(std::string()) == "failed");
+  CHECK(f["status"].value_or(std::string()) == "not converged");
+  CHECK(f["message"].value_or(std::string()).find("stage") != std::string::npos);
+  CHECK(f["stages_done"].value_or(-1) == 0);
 }
 
 TEST_CASE("recorders write the quantities asked for, and a scene's [[checks]] decide the exit status",
@@ -456,6 +481,24 @@ TEST_CASE("recorders write the quantities asked for, and a scene's [[checks]] de
     CHECK(rows == 2); // the start (step 0) and the one load step
     const double ux = std::stod(last.substr(last.rfind(',') + 1));
     CHECK(std::abs(ux - u(1.0)) < 1e-3 * u(1.0));
+  }
+  // summary.toml: the run completed, and its check with the value the closed form gives.
+  {
+    const auto sm = toml::parse_file((scratch() / "lame_checks" / "summary.toml").string());
+    CHECK(sm["ended"].value_or(std::string()) == "completed");
+    CHECK(sm["stop_reason"].value_or(std::string("x")).empty());
+    CHECK(sm["steps_done"].value_or(0) == 1);
+    const auto* checks = sm["checks"].as_array();
+    REQUIRE(checks);
+    bool inner = false;
+    for (const auto& c : *checks) {
+      const auto& t = *c.as_table();
+      if (t["label"].value_or(std::string()) != "inner.ux") continue;
+      inner = true;
+      CHECK(t["pass"].value_or(false));
+      CHECK(std::abs(t["value"].value_or(0.0) - u(1.0)) < 1e-3 * u(1.0));
+    }
+    CHECK(inner);
   }
   // A wrong expected value fails its check: exit status 5, the FAIL line, one line on stderr.
   std::string bad = text;

@@ -26,6 +26,10 @@ namespace scene {
 struct Scene;
 }
 
+/// The text of <out>/summary.toml for a run of `scene` with `stages` stages.
+[[nodiscard]] std::string summary_toml(const RunSummary& summary, const std::string& scene,
+                                       std::size_t stages);
+
 struct Analysis::Impl {
   std::string path, title;
   RunOptions options;
@@ -97,6 +101,8 @@ struct Analysis::Impl {
   std::chrono::steady_clock::time_point last_tables = std::chrono::steady_clock::now();
   double tables_every = 5.0; ///< seconds between rewrites of the tables during a stage
   void write_step(VtkSeriesWriter& w, double time) const;
+  /// <out>/summary.toml: how the run ended (output/write_summary.cpp).
+  void write_summary(const RunSummary& summary) const;
 };
 
 } // namespace stratum

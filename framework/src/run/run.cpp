@@ -110,6 +110,7 @@ RunSummary Analysis::run() {
   const auto t_out = std::chrono::steady_clock::now();
   s.write_tables(summary, axial_rows, {});
   summary.checks = evaluate_checks(s.checks, s.recorders);
+  if (s.options.write_output) s.write_summary(summary);
   summary.times.output += seconds_since(t_out);
   summary.times.total = seconds_since(t_run);
   return summary;

@@ -158,7 +158,7 @@ void scene::read_stages(const toml::table& root, PluginCatalog& catalog, Registr
   for (std::size_t i = 0; i < stage_list.size(); ++i)
     sc.stages.push_back(
         read_stage(*stage_list[i], "[[stages]] #" + std::to_string(i + 1), s, catalog, registry, sc.units));
-  // What a stage inherits (docs/scene.md "What a stage inherits"): [analysis] max_cutbacks,
+  // What a stage inherits (README.md "What a stage inherits"): [analysis] max_cutbacks,
   // error_tolerance, the step-control keys, and [output] vtk and every are defaults of every
   // stage; [analysis] steps and increments describe the one load case of a scene without
   // stages and cannot act here (found on 997ba04: steps = 10 silently ran 1 step per stage).
