@@ -2,6 +2,7 @@
 // programme than the default run: staged construction, head load, curves, checkpoints,
 // a restart from the concrete stage, the plots.
 #include <catch2/catch.hpp>
+#include <map>
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
@@ -100,6 +101,25 @@ TEST_CASE("the loess pile scene runs end to end and writes its curves", "[loess_
   }
   CHECK(slurp(res / "curves" / "shaft_traction.csv")
             .rfind("load_kN,depth_m,shear_traction_kPa,normal_traction_kPa,slip_mm,status\n", 0) == 0);
+  // Only the shaft's points: at the toe depth one row per load (the shaft's last point), not also
+  // the corner point of the base's first interface cell (found at 03c8311: a second row there with
+  // the base's vertical normal traction).
+  {
+    std::istringstream rows(slurp(res / "curves" / "shaft_traction.csv"));
+    std::string line;
+    std::getline(rows, line);
+    std::map<std::string, std::vector<double>> depths; // per load level
+    while (std::getline(rows, line)) {
+      const auto c1 = line.find(','), c2 = line.find(',', c1 + 1);
+      depths[line.substr(0, c1)].push_back(std::stod(line.substr(c1 + 1, c2 - c1 - 1)));
+    }
+    REQUIRE(depths.size() > 2);
+    for (const auto& [load, d] : depths) {
+      const double toe = *std::max_element(d.begin(), d.end());
+      INFO("load " << load << " kN, toe depth " << toe);
+      CHECK(std::count(d.begin(), d.end(), toe) == 1);
+    }
+  }
   CHECK(fs::exists(res / "pile.pvd"));
   CHECK(fs::exists(res / "diagnostics.csv"));
   REQUIRE(fs::exists(res / "checkpoints" / "3_concrete.ckpt"));

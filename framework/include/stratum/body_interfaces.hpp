@@ -48,6 +48,7 @@ struct InterfacePoint {
   Vec2 traction;  ///< shear, normal (kPa; normal tension positive)
   Vec2 jump;      ///< slip, opening (m)
   ContactState state = ContactState::stick;
+  int cell = -1; ///< the interface cell (mesh cell index) the point belongs to
 };
 
 /// The committed states of the points of a domain with a ContactLaw, in cell order.

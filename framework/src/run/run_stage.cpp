@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <optional>
+#include <set>
 
 namespace stratum {
 
@@ -101,13 +102,19 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     if (pile)
       for (const auto& [y, n] : axial_profile(m, *pile, 1e6 * units.length_in_m())) // levels: micrometres
         axial_rows.push_back({load, y, n});
-    // Shaft tractions: the interface points on the vertical wall (the largest radius).
+    // Shaft tractions: the points of the interface cells that lie on the vertical wall (every
+    // point at the largest radius); a cell of the base that only touches the wall at its
+    // corner is not the shaft's (its traction is the base's shear and vertical normal).
     for (const auto& itf : interfaces.interfaces) {
       const auto pts = interface_points(m, m.domains[itf.domain]);
       double rmax = 0.0;
       for (const auto& q : pts) rmax = std::max(rmax, q.x.x());
+      const double tol = 1e-9 * std::max(1.0, rmax); // relative: any length unit
+      std::set<int> off_wall;
       for (const auto& q : pts)
-        if (q.x.x() > rmax - 1e-9 * std::max(1.0, rmax)) // relative: any length unit
+        if (q.x.x() <= rmax - tol) off_wall.insert(q.cell);
+      for (const auto& q : pts)
+        if (!off_wall.count(q.cell))
           shaft_rows.push_back({load, q.x.y(), q.traction[0], q.traction[1], small * q.jump[0],
                                 static_cast<double>(static_cast<int>(q.state))});
     }

@@ -111,6 +111,7 @@ std::vector<InterfacePoint> interface_points(const Model& model, const Domain& d
       ip.traction = Vec2(slot.stress()[0], slot.stress()[1]);
       ip.jump = Vec2(slot.strain()[0], slot.strain()[1]);
       ip.state = dm.law.contact->state(ip.traction, slot.history());
+      ip.cell = c;
       pts.push_back(ip);
     }
   }
