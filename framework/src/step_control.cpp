@@ -58,6 +58,40 @@ std::string gave_up(const StepRecord& r, int cuts, bool path) {
   return m.str();
 }
 
+/// What both step loops carry from one accepted step to the next: the accepted displacements
+/// and the last step's increment (a solver may extrapolate it).
+struct Accepted {
+  Eigen::VectorXd& u;
+  Eigen::VectorXd previous;
+  double previous_dlambda = 0.0;
+
+  /// Sets the next request's extrapolation data.
+  void prepare(StepRequest& req) const {
+    if (previous.size()) {
+      req.previous_increment = &previous;
+      req.previous_dlambda = previous_dlambda;
+    }
+  }
+  /// Commits the converged `trial` at `lambda`, records the step and reports it; true when the
+  /// caller's stop rule ends the stage (res.stopped is then set).
+  bool commit(const StepCallbacks& cb, const StepRecord& rec, const StepReport& rep,
+              const Eigen::VectorXd& trial, double lambda, StageResult& res) {
+    call(cb.commit);
+    previous = trial - u;
+    previous_dlambda = lambda - res.lambda;
+    u = trial;
+    res.lambda = lambda;
+    ++res.steps_done;
+    res.records.push_back(rec);
+    if (cb.accepted) cb.accepted(rec, rep, u);
+    if (cb.stop && cb.stop(res.lambda, u)) {
+      res.stopped = true;
+      return true;
+    }
+    return false;
+  }
+};
+
 /// Load control: increments of lambda, cut back on failure, grown after fast steps.
 StageResult load_control(NonlinearProblem& problem, const Solver& solver, const StepSettings& s,
                          const StepCallbacks& cb, Eigen::VectorXd& u) {
@@ -78,8 +112,7 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
   const double max_inc = s.max_increment > 0 ? s.max_increment : std::max(std::abs(range), nominal);
   int cuts_here = 0;
   bool recovering = false;
-  Eigen::VectorXd previous; // the last accepted step's increment (a solver may extrapolate it)
-  double previous_dlambda = 0.0;
+  Accepted accepted{u, {}, 0.0};
   while (dir * (s.lambda_end - res.lambda) > eps) {
     if (res.steps_done >= s.max_steps) {
       res.outcome = Outcome::failure(
@@ -93,10 +126,7 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
     if (dir * (target - s.lambda_end) > -eps) target = s.lambda_end;
     req.lambda = target;
     req.convergence = s.convergence;
-    if (previous.size()) {
-      req.previous_increment = &previous;
-      req.previous_dlambda = previous_dlambda;
-    }
+    accepted.prepare(req);
     Eigen::VectorXd trial = u;
     const auto t0 = Clock::now();
     if (cb.predict) cb.predict(problem, req.lambda_n, req.lambda, trial);
@@ -140,18 +170,7 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
         continue;
       }
     }
-    call(cb.commit);
-    previous = trial - u;
-    previous_dlambda = req.lambda - req.lambda_n;
-    u = trial;
-    res.lambda = req.lambda;
-    ++res.steps_done;
-    res.records.push_back(rec);
-    if (cb.accepted) cb.accepted(rec, rep, u);
-    if (cb.stop && cb.stop(res.lambda, u)) {
-      res.stopped = true;
-      return res;
-    }
+    if (accepted.commit(cb, rec, rep, trial, req.lambda, res)) return res;
     if (!s.automatic && dir * (res.lambda - boundary) > -eps) {
       ++entry;
       nominal = nominal_at(entry);
@@ -189,8 +208,7 @@ StageResult path_following(NonlinearProblem& problem, const Solver& solver, cons
   double size = s.arc_length; // 0 until the first step reports its size
   double nominal = size;
   int cuts_here = 0, depth = 0;
-  Eigen::VectorXd previous;
-  double previous_dlambda = 0.0;
+  Accepted accepted{u, {}, 0.0};
   while (dir * (s.lambda_end - res.lambda) > 1e-12 * std::max(1.0, std::abs(s.lambda_end))) {
     if (res.steps_done >= s.max_steps) {
       res.stopped = true;
@@ -201,10 +219,7 @@ StageResult path_following(NonlinearProblem& problem, const Solver& solver, cons
     req.lambda = res.lambda + dir * first_dl;
     req.convergence = s.convergence;
     req.arc_length = size;
-    if (previous.size()) {
-      req.previous_increment = &previous;
-      req.previous_dlambda = previous_dlambda;
-    }
+    accepted.prepare(req);
     Eigen::VectorXd trial = u;
     const auto t0 = Clock::now();
     StepReport rep = solver.solve(problem, req, trial);
@@ -233,18 +248,7 @@ StageResult path_following(NonlinearProblem& problem, const Solver& solver, cons
         first_dl *= 0.5;
       continue;
     }
-    call(cb.commit);
-    previous = trial - u;
-    previous_dlambda = rep.lambda - res.lambda;
-    u = trial;
-    res.lambda = rep.lambda;
-    ++res.steps_done;
-    res.records.push_back(rec);
-    if (cb.accepted) cb.accepted(rec, rep, u);
-    if (cb.stop && cb.stop(res.lambda, u)) {
-      res.stopped = true;
-      return res;
-    }
+    if (accepted.commit(cb, rec, rep, trial, rep.lambda, res)) return res;
     if (nominal <= 0) nominal = rep.arc_length;
     // Thesis (4.19): the next size is beta times the measured size of this step.
     double next = rep.arc_length > 0 ? rep.arc_length : size;
