@@ -11,6 +11,7 @@
 
 #include "stratum/element.hpp"
 #include "stratum/error.hpp"
+#include "stratum/material_point.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -323,7 +324,7 @@ private:
     Eigen::Matrix<double, ND, ND, Eigen::RowMajor> K; // row-major: add_sparse_btdb adds rows
     if (want_tangent) K.setZero();
     BMat B;
-    Vec6 strain = Vec6::Zero(), strain_n = Vec6::Zero(), dstrain, stress_n, stress;
+    Vec6 dstrain, stress;
     Mat6 tangent;
 
     const bool modified = opt_.volumetric != Volumetric::full;
@@ -338,27 +339,14 @@ private:
         B.row(1) += c;
         B.row(2) += c;
       }
-      // The increment comes from the displacement change; the strain itself is the committed
-      // strain plus that increment, so a stage that resets displacements keeps its strains.
-      const std::size_t p = first_point + static_cast<std::size_t>(i);
-      const auto committed = states.committed(p);
-      const auto trial = states.trial(p);
+      // The increment comes from the displacement change (stratum/material_point.hpp: the strain
+      // is the committed one plus the increment, so a stage that resets displacements keeps it).
       dstrain.setZero();
       dstrain.head<4>().noalias() = B * (ue - une);
-      strain_n = committed.strain();
-      strain = strain_n + dstrain;
-      stress_n = committed.stress();
-      const MaterialInput in{stress_n,    strain_n, committed.history(), dstrain, PointContext{cell.id, i},
-                             want_tangent};
-      MaterialOutput mo{stress, trial.history(), tangent};
-      Outcome r = material.update(in, mo);
-      if (!r.ok()) return r;
-      if (!stress.allFinite() || (want_tangent && !tangent.allFinite()))
-        return Outcome::failure(
-            Status::non_finite,
-            detail::point_message(cell.id, "the material returned a non-finite stress or tangent", i));
-      trial.strain() = strain;
-      trial.stress() = stress;
+      if (Outcome r = update_material_point(material, states, first_point + static_cast<std::size_t>(i),
+                                            dstrain, PointContext{cell.id, i}, want_tangent, stress, tangent);
+          !r.ok())
+        return r;
 
       f.noalias() += B.transpose() * (g.dV * stress.head<4>());
       if (want_tangent) {

@@ -12,6 +12,7 @@
 
 #include "stratum/element.hpp"
 #include "stratum/error.hpp"
+#include "stratum/material_point.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -165,7 +166,7 @@ public:
     Eigen::MatrixXd K;
     if (want_tangent) K.setZero(2 * n, 2 * n);
     Eigen::MatrixXd B(4, 2 * n);
-    Vec6 strain, strain_n, dstrain, stress_n, stress;
+    Vec6 dstrain, stress;
     Mat6 tangent;
     Point g;
     for (std::size_t i = 0; i < table_.size(); ++i) {
@@ -173,26 +174,13 @@ public:
       if (!evaluate(table_[i], X, g))
         return Outcome::failure(Status::non_finite, point_message(cell.id, bad_geometry(), ip));
       strain_matrix(g, axi, B);
-      // As in quad: the strain is the committed strain plus the increment of this step.
-      const std::size_t p = first_point + i;
-      const auto committed = states.committed(p);
-      const auto trial = states.trial(p);
+      // As in quad: the increment from the displacement change (stratum/material_point.hpp).
       dstrain.setZero();
       dstrain.head<4>().noalias() = B * du;
-      strain_n = committed.strain();
-      strain = strain_n + dstrain;
-      stress_n = committed.stress();
-      const MaterialInput in{stress_n,    strain_n, committed.history(), dstrain, PointContext{cell.id, ip},
-                             want_tangent};
-      MaterialOutput mo{stress, trial.history(), tangent};
-      Outcome r = material.update(in, mo);
-      if (!r.ok()) return r;
-      if (!stress.allFinite() || (want_tangent && !tangent.allFinite()))
-        return Outcome::failure(
-            Status::non_finite,
-            point_message(cell.id, "the material returned a non-finite stress or tangent", ip));
-      trial.strain() = strain;
-      trial.stress() = stress;
+      if (Outcome r = update_material_point(material, states, first_point + i, dstrain,
+                                            PointContext{cell.id, ip}, want_tangent, stress, tangent);
+          !r.ok())
+        return r;
       f.noalias() += B.transpose() * (g.dV * stress.head<4>());
       if (want_tangent) {
         const Eigen::Matrix4d Dw = g.dV * tangent.topLeftCorner<4, 4>();
