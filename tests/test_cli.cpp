@@ -363,7 +363,7 @@ TEST_CASE("an until_failure stage tells a collapse (exit 0) from a numerical sto
   // to 1.2 P_lim: with Newton and enough iterations the run stops as a collapse just below the
   // closed-form limit P_lim = (2 / sqrt 3) sigma_y ln 2 (the mesh is coarse: within 3 %).
   const std::string text = [] {
-    std::ifstream in(fs::path(STRATUM_SOURCE_DIR) / "tests" / "scenes" / "hill_to_collapse.toml");
+    std::ifstream in(fs::path(STRATUM_SOURCE_DIR) / "tests" / "scenes" / "cli" / "hill_to_collapse.toml");
     std::stringstream s;
     s << in.rdbuf();
     return s.str();

@@ -95,10 +95,10 @@ TEST_CASE("boring releases the wall over the stage's steps", "[stages]") {
 
 TEST_CASE("boring a cylindrical cavity under in-situ stress: the closed-form unloading of the wall",
           "[stages]") {
-  // tests/scenes/boring_cavity.toml: a plane-strain ring (axisymmetric slice, u_z = 0 on top and
+  // tests/scenes/stages/boring_cavity.toml: a plane-strain ring (axisymmetric slice, u_z = 0 on top and
   // bottom) a = 0.5 m .. b = 5 m, u_r(b) = 0, under sigma_h = K0 sigma_v = -p0; boring the core
   // releases the wall. Closed form u = A r + B / r of the release (see the scene's header).
-  auto an = stratum::testing::test_scene("boring_cavity.toml");
+  auto an = stratum::testing::test_scene("stages/boring_cavity.toml");
   const auto s = an->run();
   REQUIRE(s.outcome.ok());
   REQUIRE(s.stages_done == 2);
