@@ -118,44 +118,36 @@ TEST_CASE("the actions of a stage act as before they were objects", "[stages]") 
 }
 
 TEST_CASE("mesh generators are a plugin kind; blocks and gmsh stay the scene's own", "[mesh]") {
-  const std::string tail = R"(
-[materials.soil]
-model = "linear_elastic"
-E = 10000.0
-nu = 0.3
-[[domains]]
-cells = "all"
-element = "quad"
-material = "soil"
-[[constraints]]
-nodes = "bottom"
-uy = 0.0
-[[loads]]
-type = "gravity"
-gamma = 1.0
-)";
-  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"axisymmetric_pil\"\n" + tail),
-                    Catch::Contains("test.toml:2:13 [mesh] generator = \"axisymmetric_pil\" is not allowed; "
-                                    "allowed: one of: blocks, gmsh, axisymmetric_pile") &&
+  // tests/scenes/stage_actions/mesh_tail.toml: each case appends its [mesh] table, whose lines
+  // follow the file's last line n.
+  const std::string tail_path = stratum::testing::scene_path("stage_actions/mesh_tail.toml");
+  const std::string tail = stratum::testing::read_text(tail_path);
+  const auto n = std::count(tail.begin(), tail.end(), '\n');
+  const auto with_mesh = [&](const std::string& mesh) { return scene(tail + mesh, tail_path); };
+  const auto at = [&](long line, int column) {
+    return "stage_actions/mesh_tail.toml:" + std::to_string(n + line) + ":" + std::to_string(column);
+  };
+  CHECK_THROWS_WITH(with_mesh("[mesh]\ngenerator = \"axisymmetric_pil\"\n"),
+                    Catch::Contains(at(2, 13) + " [mesh] generator = \"axisymmetric_pil\" is not allowed; "
+                                                "allowed: one of: blocks, gmsh, axisymmetric_pile") &&
                         Catch::Contains("did you mean 'axisymmetric_pile'"));
   // A generator's parameters are checked against its schema, located in its table.
-  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"axisymmetric_pile\"\n[mesh.pile]\nradius = -1.0\n" + tail),
-                    Catch::Contains("test.toml:4:10") && Catch::Contains("radius = -1 is outside"));
-  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"axisymmetric_pile\"\n[mesh.pile]\nradiu = 1.0\n" + tail),
-                    Catch::Contains("test.toml:4:1") && Catch::Contains("did you mean 'radius'"));
+  CHECK_THROWS_WITH(with_mesh("[mesh]\ngenerator = \"axisymmetric_pile\"\n[mesh.pile]\nradius = -1.0\n"),
+                    Catch::Contains(at(4, 10)) && Catch::Contains("radius = -1 is outside"));
+  CHECK_THROWS_WITH(with_mesh("[mesh]\ngenerator = \"axisymmetric_pile\"\n[mesh.pile]\nradiu = 1.0\n"),
+                    Catch::Contains(at(4, 1)) && Catch::Contains("did you mean 'radius'"));
   // [mesh.pile] where it cannot act (a blocks mesh) is an error, not ignored.
-  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"blocks\"\n[[mesh.blocks]]\nname = \"a\"\nx = [0.0, 1.0]\n"
-                          "y = [0.0, 1.0]\n[mesh.pile]\nradius = 1.0\n" +
-                          tail),
-                    Catch::Contains("'pile'"));
-  // The pile generator needs an axisymmetric scene: located at its table.
   CHECK_THROWS_WITH(
-      scene("[analysis]\nformulation = \"plane_strain\"\n[mesh]\ngenerator = \"axisymmetric_pile\"\n"
-            "[mesh.pile]\nradius = 0.2\n" +
-            tail),
-      Catch::Contains("test.toml:5:1") && Catch::Contains("needs [analysis] formulation = \"axisymmetric\""));
+      with_mesh("[mesh]\ngenerator = \"blocks\"\n[[mesh.blocks]]\nname = \"a\"\nx = [0.0, 1.0]\n"
+                "y = [0.0, 1.0]\n[mesh.pile]\nradius = 1.0\n"),
+      Catch::Contains("'pile'"));
+  // The pile generator needs an axisymmetric scene: located at its table.
+  CHECK_THROWS_WITH(with_mesh("[analysis]\nformulation = \"plane_strain\"\n[mesh]\ngenerator = "
+                              "\"axisymmetric_pile\"\n[mesh.pile]\nradius = 0.2\n"),
+                    Catch::Contains(at(5, 1)) &&
+                        Catch::Contains("needs [analysis] formulation = \"axisymmetric\""));
   // Built through the registry, the pile mesh has its documented sets.
-  auto a = scene("[mesh]\ngenerator = \"axisymmetric_pile\"\n" + tail);
+  auto a = with_mesh("[mesh]\ngenerator = \"axisymmetric_pile\"\n");
   for (const char* set : {"pile", "bore", "near", "far", "soil", "all"}) {
     INFO(set);
     CHECK(a->model().mesh.cell_sets.count(set) == 1);
