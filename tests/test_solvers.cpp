@@ -261,9 +261,11 @@ namespace {
 std::string footing(const std::string& analysis, const std::string& solver, int max_iterations = 30) {
   using stratum::testing::replace_once;
   std::string t = stratum::testing::read_text(stratum::testing::scene_path("solvers/footing.toml"));
-  t = replace_once(t, "formulation = \"plane_strain\"\n", "formulation = \"plane_strain\"\n" + analysis + "\n");
+  t = replace_once(t, "formulation = \"plane_strain\"\n",
+                   "formulation = \"plane_strain\"\n" + analysis + "\n");
   t = replace_once(t, "[solver]\n", "[solver]\n" + solver + "\n");
-  return replace_once(t, "max_iterations = 30\n", "max_iterations = " + std::to_string(max_iterations) + "\n");
+  return replace_once(t, "max_iterations = 30\n",
+                      "max_iterations = " + std::to_string(max_iterations) + "\n");
 }
 
 struct Curve {
