@@ -3,7 +3,7 @@
 // horizontal and vertical pressure, an axisymmetric triaxial sample, an axisymmetric oedometer,
 // plane-strain simple shear (their fields lie in the element space: exact to round-off) and the
 // vertical shear of the soil annulus around a pile shaft (u_z ~ ln r: a discretisation error).
-// Scenes: tests/scenes/cross_anisotropic_*.toml. The constants are chosen so that exchanging E_h
+// Scenes: tests/scenes/anisotropic/cross_anisotropic_*.toml. The constants are chosen so that exchanging E_h
 // and E_v, or nu_hh and nu_vh, or leaving G_vh at its default, changes checked numbers by far
 // more than the tolerances (each was tried by editing resolve() in elastic_math.hpp).
 #include "scene_helpers.hpp"
@@ -30,7 +30,8 @@ std::unique_ptr<Analysis> scene_file(const std::string& name) {
   RunOptions o;
   o.plugin_dirs = {STRATUM_PLUGIN_DIR};
   o.write_output = false;
-  return Analysis::from_file(std::string(STRATUM_SOURCE_DIR) + "/tests/scenes/" + name, std::move(o));
+  return Analysis::from_file(std::string(STRATUM_SOURCE_DIR) + "/tests/scenes/anisotropic/" + name,
+                             std::move(o));
 }
 
 /// Largest deviation of any integration point's stress from `exact` (all four in-plane and

@@ -26,55 +26,6 @@ namespace {
 
 constexpr double gamma_soil = 18.0, K0 = 0.6, surface = 1.0; // ground 1 m above the block top
 
-/// A 1 m x 2 m plane-strain block (y from -2 to 0), rollers on the sides, fixed at the bottom,
-/// one geostatic stage (in equilibrium with its self-weight, so every point stays elastic).
-std::string block_scene(const std::string& material) {
-  return R"(
-title = "history output"
-[analysis]
-formulation = "plane_strain"
-solver = "newton"
-[mesh]
-generator = "blocks"
-nodes_per_cell = 4
-[[mesh.blocks]]
-name = "soil"
-x = [0.0, 1.0]
-y = [-2.0, 0.0]
-nx = 2
-ny = 4
-[materials.soil]
-)" + material +
-         R"(
-[[domains]]
-cells = "soil"
-element = "quad"
-material = "soil"
-integration = 2
-[[constraints]]
-nodes = "bottom"
-ux = 0.0
-uy = 0.0
-[[constraints]]
-nodes = "left"
-ux = 0.0
-[[constraints]]
-nodes = "right"
-ux = 0.0
-[output]
-vtk = true
-integration_points = true
-[[stages]]
-name = "geostatic"
-[[stages.actions]]
-type = "geostatic"
-cells = "soil"
-gamma = 18.0
-K0 = 0.6
-surface = 1.0
-)";
-}
-
 /// The geostatic stress at depth y, compression positive: vertical and horizontal.
 struct Geo {
   double sv, sh;
@@ -84,15 +35,16 @@ Geo geostatic(double y) {
   return {sv, K0 * sv};
 }
 
-/// Runs the scene and returns the last integration-point cloud read back by VTK.
-vtkSmartPointer<vtkPolyData> run_and_read(const std::string& name, const std::string& material) {
+/// Runs tests/scenes/history/<name>.toml (history/block.toml with a material) and returns the last
+/// integration-point cloud read back by VTK.
+vtkSmartPointer<vtkPolyData> run_and_read(const std::string& name) {
   const fs::path out =
       fs::temp_directory_path() / ("stratum_history_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(out);
   RunOptions o;
   o.plugin_dirs = {STRATUM_PLUGIN_DIR};
   o.out_dir = out.string();
-  auto a = Analysis::from_string(block_scene(material), name + ".toml", o);
+  auto a = Analysis::from_file(stratum::testing::scene_path("history/" + name + ".toml"), o);
   const auto s = a->run();
   INFO(s.outcome.message);
   REQUIRE(s.outcome.ok());
@@ -134,8 +86,7 @@ TEST_CASE("history output: the cap position kappa of the cap model, with its uni
   // A cap far above the geostatic stresses (Z = 2000 kPa in J1): no point widens it, so kappa is
   // the root of X(kappa) = kappa + R (A - C exp(-B kappa)) = Z everywhere (2.147)-(2.148).
   const double A = 190.0, B = 0.0015, C = 110.0, R = 2.5, Z = 2000.0;
-  auto cloud = run_and_read("cap", "model = \"cap_sandler\"\nE = 18000.0\nnu = 0.3\nT_CUT = 30.0\nA = 190.0\n"
-                                   "B = 0.0015\nC = 110.0\nD = 0.00023\nR = 2.5\nW = 0.06\nZ = 2000.0\n");
+  auto cloud = run_and_read("cap");
   double lo = -1000.0, hi = Z; // X is increasing in kappa
   for (int it = 0; it < 200; ++it) {
     const double mid = 0.5 * (lo + hi);
@@ -155,9 +106,7 @@ TEST_CASE("history output: the largest stress level and deviator of Duncan-Chang
   // S = q / q_f with q_f = 2 (c cos phi + sigma_3 sin phi) / (1 - sin phi) (2.28) at the
   // geostatic stress: sigma_1 the vertical, sigma_3 = K0 sigma_1.
   const double phi = 30.0 * std::numbers::pi / 180.0, c = 10.0;
-  auto cloud =
-      run_and_read("dc", "model = \"duncan_chang\"\nK = 300.0\nn = 0.5\nR_f = 0.8\nphi = 30.0\nc = 10.0\n"
-                         "K_ur = 600.0\nG = 0.3\nF = 0.05\nd = 2.0\n");
+  auto cloud = run_and_read("duncan_chang");
   auto q = [](double y) {
     const Geo g = geostatic(y);
     return g.sv - g.sh;
@@ -174,8 +123,7 @@ TEST_CASE("history output: the preconsolidation pressure of Modified Cam-Clay, w
           "[output][cam_clay]") {
   // p_c0 = ocr (p + q^2 / (M^2 p)) at the geostatic p and q (the ellipse through the stress).
   const double M = 1.2, ocr = 1.5;
-  auto cloud = run_and_read("mcc", "model = \"modified_cam_clay\"\nM = 1.2\nlambda = 0.1\nkappa = 0.01\n"
-                                   "e0 = 0.8\nocr = 1.5\n");
+  auto cloud = run_and_read("cam_clay");
   check_field(
       cloud, "p_c [kPa]",
       [&](double y) {

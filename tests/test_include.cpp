@@ -30,37 +30,9 @@ fs::path scratch() {
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
-// The Lamé cylinder of inputs/verification/lame_axisymmetric.toml without its material.
-const std::string lame_body = R"(
-[analysis]
-formulation = "axisymmetric"
-solver = "newton"
-steps = 1
-[mesh]
-generator = "blocks"
-nodes_per_cell = 8
-[[mesh.blocks]]
-name = "ring"
-x = [1.0, 2.0]
-y = [0.0, 0.5]
-nx = 8
-ny = 2
-[[domains]]
-cells = "ring"
-element = "quad"
-material = "steel"
-integration = 3
-[[constraints]]
-nodes = "bottom"
-uy = 0.0
-[[constraints]]
-nodes = "top"
-uy = 0.0
-[[loads]]
-type = "pressure"
-edges = "ring.left"
-p = 1.0
-)";
+// tests/scenes/include/lame_body.toml: the Lamé cylinder without its material.
+const std::string lame_body =
+    "\n" + stratum::testing::read_text(stratum::testing::scene_path("include/lame_body.toml"));
 
 std::unique_ptr<Analysis> from(const fs::path& p) {
   RunOptions o;

@@ -10,15 +10,16 @@
 using namespace stratum;
 
 namespace {
+const std::string patch_path = stratum::testing::scene_path("patch/patch.toml");
+
+/// patch/patch.toml on the Gmsh mesh `msh` (tests/data/), in `formulation`, with `volumetric`.
 std::string patch_scene(const std::string& msh, const std::string& formulation,
                         const std::string& volumetric) {
-  return "[analysis]\nformulation = \"" + formulation + "\"\n[mesh]\ngenerator = \"gmsh\"\nfile = \"" +
-         std::string(STRATUM_TEST_DATA_DIR) + "/" + msh +
-         "\"\n[materials.m]\nmodel = \"linear_elastic\"\nE = 200.0\nnu = 0.3\n"
-         "[[domains]]\ncells = \"patch\"\nelement = \"quad\"\nmaterial = \"m\"\nvolumetric = \"" +
-         volumetric +
-         "\"\n[[constraints]]\nnodes = \"left\"\nux = 0.0\n[[constraints]]\nnodes = \"bottom\"\nuy = 0.0\n"
-         "[[loads]]\ntype = \"pressure\"\nedges = \"right\"\np = 10.0\n";
+  using stratum::testing::replace_once;
+  std::string t = stratum::testing::read_text(patch_path);
+  t = replace_once(t, "patch_quad4.msh", msh);
+  t = replace_once(t, "formulation = \"plane_strain\"", "formulation = \"" + formulation + "\"");
+  return replace_once(t, "volumetric = \"full\"", "volumetric = \"" + volumetric + "\"");
 }
 } // namespace
 
@@ -27,7 +28,7 @@ TEST_CASE("patch: distorted Gmsh meshes reproduce uniform stress exactly", "[pat
   for (const std::string msh : {"patch_quad4.msh", "patch_quad8.msh"})
     for (const std::string form : {"plane_strain", "axisymmetric"})
       for (const std::string vol : {"full", "bbar", "selective"}) {
-        auto an = stratum::testing::scene(patch_scene(msh, form, vol));
+        auto an = stratum::testing::scene(patch_scene(msh, form, vol), patch_path);
         REQUIRE(an->run().outcome.ok());
         const Model& m = an->model();
         // Exact fields (tension positive).

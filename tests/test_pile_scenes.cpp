@@ -274,72 +274,9 @@ TEST_CASE("the element loop on several threads changes no number of a staged non
 TEST_CASE("far-boundary springs: the geostatic stage starts them at K0 gamma z and the soil stays put",
           "[stages][contact]") {
   // The far side of the pile mesh on two-node springs (contact2 split off the edge set, outer
-  // copies fixed) instead of rollers: the thesis' boundary contact elements.
-  const double gamma = 18.0, K0 = 0.5, kn = 4000.0;
-  std::ostringstream t;
-  t << R"([analysis]
-formulation = "axisymmetric"
-[convergence]
-force_rtol = 1e-10
-[mesh]
-generator = "axisymmetric_pile"
-[mesh.pile]
-radius = 0.25
-length = 3.0
-near_radius = 2.0
-domain_radius = 6.0
-n_shaft = 6
-n_near = 4
-n_far = 2
-n_below = 2
-n_deep = 2
-[materials.soil]
-model = "linear_elastic"
-E = 20000.0
-nu = 0.3
-[[domains]]
-cells = "soil"
-element = "quad"
-material = "soil"
-[contact_laws.far_field]
-model = "coulomb_elastoplastic"
-k_s = 2000.0
-k_n = )"
-    << kn << R"(
-c = 1.0e6
-sigma_t = 1.0e6
-[[interfaces]]
-name = "far_springs"
-edges = "far_side"
-element = "contact2"
-law = "far_field"
-csv = false
-[[constraints]]
-nodes = "axis"
-ux = 0.0
-[[constraints]]
-nodes = "far_springs.side2"
-ux = 0.0
-uy = 0.0
-[[constraints]]
-nodes = "bottom"
-ux = 0.0
-uy = 0.0
-[[stages]]
-name = "geostatic"
-[[stages.actions]]
-type = "geostatic"
-cells = "soil"
-gamma = 18.0
-K0 = 0.5
-[[stages.actions]]
-type = "geostatic"
-cells = "far_springs"
-name = "springs_weight"
-gamma = 18.0
-K0 = 0.5
-)";
-  auto a = scene(t.str(), "springs.toml");
+  // copies fixed) instead of rollers: the thesis' boundary contact elements (the scene's header).
+  const double gamma = 18.0, K0 = 0.5; // as in the scene file
+  auto a = stratum::testing::test_scene("pile/far_springs.toml");
   const auto run = a->run();
   INFO(run.outcome.message);
   REQUIRE(run.outcome.ok());

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 using namespace stratum;
 
@@ -138,4 +139,56 @@ TEST_CASE("point driver: a state without stiffness is a failure, not rows of zer
       PointDriver::from_string(mat + "[initial]\np = 25.0\n" + path, "p.toml", {STRATUM_PLUGIN_DIR})->run();
   CHECK(confined.outcome.ok());
   CHECK(confined.rows.size() == 21);
+}
+
+TEST_CASE("point driver: [material] from takes a set of an included shared file; keys beside it override",
+          "[point][include]") {
+  namespace fs = std::filesystem;
+  const fs::path d = fs::temp_directory_path() / ("stratum_point_from_" + std::to_string(::getpid()));
+  fs::create_directories(d / "materials");
+  std::ofstream(d / "materials" / "soil.toml")
+      << "[materials.soil]\nmodel = \"linear_elastic\"\nE = 1000.0\nnu = 0.25\n[materials.other]\n"
+         "model = \"linear_elastic\"\nE = 5.0\n";
+  const std::string path = "[[paths]]\ntype = \"isotropic\"\npressure = 100.0\nsteps = 1\n";
+  auto run = [&](const std::string& name, const std::string& text) {
+    std::ofstream(d / name) << text;
+    return PointDriver::from_file((d / name).string(), {STRATUM_PLUGIN_DIR})->run();
+  };
+  // Isotropic compression by 100 kPa: eps_v = -100 / K with K = E / (3 (1 - 2 nu)); nu from the
+  // set, E from the set or from the key beside `from`.
+  auto eps_v = [](const PointRun& r) {
+    const auto& e = r.rows.back().strain;
+    return e[0] + e[1] + e[2];
+  };
+  const auto set = run("set.toml", "include = \"materials/soil.toml\"\n[material]\nfrom = \"soil\"\n" + path);
+  REQUIRE(set.outcome.ok());
+  CHECK(eps_v(set) == Approx(-100.0 / (1000.0 / (3 * 0.5))).epsilon(1e-12));
+  const auto stiff = run(
+      "stiff.toml", "include = \"materials/soil.toml\"\n[material]\nfrom = \"soil\"\nE = 2000.0\n" + path);
+  REQUIRE(stiff.outcome.ok());
+  CHECK(eps_v(stiff) == Approx(-100.0 / (2000.0 / (3 * 0.5))).epsilon(1e-12));
+  // Errors: a set that is not there (with the known ones), [materials] without `from`, and a bad
+  // value of the set, each located (the last in the shared file).
+  auto error = [&](const std::string& name, const std::string& text) {
+    try {
+      run(name, text);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  const std::string typo =
+      error("typo.toml", "include = \"materials/soil.toml\"\n[material]\nfrom = \"sol\"\n" + path);
+  CHECK(typo.find("/typo.toml:3:8 [material] from = \"sol\": no table [materials.sol]") != std::string::npos);
+  CHECK(typo.find("known: other, soil; did you mean 'soil'?") != std::string::npos);
+  const std::string unused = error("unused.toml", "include = \"materials/soil.toml\"\n[material]\n"
+                                                  "model = \"linear_elastic\"\nE = 1.0\n" +
+                                                      path);
+  CHECK(unused.find("materials/soil.toml:1:1") != std::string::npos);
+  CHECK(unused.find("is used through [material] from = \"<name>\"") != std::string::npos);
+  std::ofstream(d / "materials" / "bad.toml") << "[materials.soil]\nmodel = \"linear_elastic\"\nE = -1.0\n";
+  const std::string bad =
+      error("bad.toml", "include = \"materials/bad.toml\"\n[material]\nfrom = \"soil\"\n" + path);
+  CHECK(bad.find("materials/bad.toml:3:5") != std::string::npos);
+  fs::remove_all(d);
 }

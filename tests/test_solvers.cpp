@@ -255,67 +255,17 @@ TEST_CASE("a failed step is reverted exactly: cut-back equals the smaller step f
 
 namespace {
 
-/// Catalogue P4 on a coarse mesh: a flexible strip footing (B/2 = 1 m, uniform pressure
-/// 600 kPa at load factor 1) on von Mises soil with k = 100 kPa; limit (2 + pi) k = 514.16 kPa.
+/// tests/scenes/solvers/footing.toml (catalogue P4, a strip footing on von Mises soil, limit
+/// (2 + pi) k = 514.16 kPa) with `analysis` and `solver` lines added to [analysis] and [solver] and
+/// [convergence] max_iterations set.
 std::string footing(const std::string& analysis, const std::string& solver, int max_iterations = 30) {
-  return R"(
-[analysis]
-formulation = "plane_strain"
-)" + analysis +
-         R"(
-[solver]
-)" + solver +
-         R"(
-[convergence]
-force_rtol = 1e-11
-max_iterations = )" +
-         std::to_string(max_iterations) + R"(
-[mesh]
-generator = "blocks"
-nodes_per_cell = 8
-[[mesh.blocks]]
-name = "foot"
-x = [0.0, 1.0]
-y = [-4.0, 0.0]
-nx = 4
-ny = 7
-grade_x = 0.4
-grade_y = 0.15
-[[mesh.blocks]]
-name = "side"
-x = [1.0, 5.0]
-y = [-4.0, 0.0]
-nx = 6
-ny = 7
-grade_x = 8.0
-grade_y = 0.15
-[materials.clay]
-model = "von_mises"
-E = 1.0e5
-nu = 0.3
-sigma_y = 173.205080757
-integrator = "closest_point"
-[[domains]]
-cells = "all"
-element = "quad"
-material = "clay"
-integration = 3
-volumetric = "selective"
-[[constraints]]
-nodes = "left"
-ux = 0.0
-[[constraints]]
-nodes = "right"
-ux = 0.0
-[[constraints]]
-nodes = "bottom"
-ux = 0.0
-uy = 0.0
-[[loads]]
-type = "pressure"
-edges = "foot.top"
-p = 600.0
-)";
+  using stratum::testing::replace_once;
+  std::string t = stratum::testing::read_text(stratum::testing::scene_path("solvers/footing.toml"));
+  t = replace_once(t, "formulation = \"plane_strain\"\n",
+                   "formulation = \"plane_strain\"\n" + analysis + "\n");
+  t = replace_once(t, "[solver]\n", "[solver]\n" + solver + "\n");
+  return replace_once(t, "max_iterations = 30\n",
+                      "max_iterations = " + std::to_string(max_iterations) + "\n");
 }
 
 struct Curve {

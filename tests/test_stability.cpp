@@ -83,6 +83,13 @@ TEST_CASE("stability harness: a scene's relative includes run from the harness' 
   const auto s = st::input_scene(STRATUM_SOURCE_DIR, "inputs/loess_pile/hardening_soil.toml");
   CHECK(s.text.find("../materials") == std::string::npos);
   CHECK(s.text.find(std::string(STRATUM_SOURCE_DIR)) != std::string::npos);
+  // The model of a scene whose soil set is included (inputs/materials/loess_cap.toml) chooses the
+  // integrators the matrix varies, as when the set was written in the scene.
+  const auto cap = st::input_scene(STRATUM_SOURCE_DIR, "inputs/loess_pile/cap.toml");
+  CHECK(cap.text.find("model = \"cap_sandler\"") == std::string::npos);
+  CHECK(cap.integ_table == "[materials.loess]");
+  CHECK(cap.integ_key == "integration");
+  CHECK(cap.integrators == std::vector<std::string>{"closest_point", "sandler_rubin"});
 }
 
 TEST_CASE("stability harness: catches crashes, NaN/Inf and silent failures", "[stability]") {

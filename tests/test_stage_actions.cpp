@@ -17,43 +17,20 @@ using stratum::testing::scene;
 
 namespace {
 
-// A soil column 1 m wide and 2 m deep, plane strain, held at the sides and the bottom.
-const std::string column = R"(
-[analysis]
-formulation = "plane_strain"
-[mesh]
-generator = "blocks"
-nodes_per_cell = 8
-[[mesh.blocks]]
-name = "soil"
-x = [0.0, 1.0]
-y = [-2.0, 0.0]
-nx = 1
-ny = 4
-[materials.soil]
-model = "linear_elastic"
-E = 10000.0
-nu = 0.0
-[[domains]]
-cells = "soil"
-element = "quad"
-material = "soil"
-[[constraints]]
-nodes = "left"
-ux = 0.0
-[[constraints]]
-nodes = "right"
-ux = 0.0
-[[constraints]]
-nodes = "bottom"
-uy = 0.0
-)";
+// tests/scenes/stage_actions/column.toml: a plane-strain soil column without loads or stages.
+const std::string column_path = stratum::testing::scene_path("stage_actions/column.toml");
+const std::string column = stratum::testing::read_text(column_path);
 
-/// "test.toml:<line>:" of the first line of `text` from `from` on that contains `needle`.
+/// The column with `stages` appended, built under the column file's name (errors located in it).
+std::unique_ptr<Analysis> column_with(const std::string& stages) {
+  return scene(column + stages, column_path);
+}
+
+/// "stage_actions/column.toml:<line>:" of the first line of `text` from `from` on that contains `needle`.
 std::string at_line_of(const std::string& text, const std::string& needle, std::size_t from = 0) {
   const auto pos = text.find(needle, from);
   REQUIRE(pos != std::string::npos);
-  return "test.toml:" +
+  return "stage_actions/column.toml:" +
          std::to_string(std::count(text.begin(), text.begin() + static_cast<long>(pos), '\n') + 1) + ":";
 }
 
@@ -87,8 +64,9 @@ TEST_CASE("an action's table is checked against that action's schema", "[stages]
   auto fails = [](const std::string& action, const std::string& located_at, const std::string& says) {
     const std::string text = column + one_stage(action);
     INFO(action);
-    const std::string at = located_at.empty() ? "test.toml:" : at_line_of(text, located_at, column.size());
-    CHECK_THROWS_WITH(scene(text), Catch::Contains(at) && Catch::Contains(says));
+    const std::string at =
+        located_at.empty() ? "stage_actions/column.toml:" : at_line_of(text, located_at, column.size());
+    CHECK_THROWS_WITH(scene(text, column_path), Catch::Contains(at) && Catch::Contains(says));
   };
   // A misspelt key of a pressure action, with the closest allowed key.
   fails("type = \"pressure\"\nedges = \"soil.top\"\npp = 10.0\n", "pp =", "unknown key 'pp'");
@@ -112,7 +90,7 @@ TEST_CASE("an action's table is checked against that action's schema", "[stages]
 
 TEST_CASE("an unknown action type lists the built-in ones first, with a suggestion", "[stages]") {
   const std::string text = column + one_stage("type = \"geostatc\"\n");
-  CHECK_THROWS_WITH(scene(text),
+  CHECK_THROWS_WITH(scene(text, column_path),
                     Catch::Contains(at_line_of(text, "geostatc") + "8") &&
                         Catch::Contains("allowed: one of: geostatic, deactivate, activate, pressure, load, "
                                         "force, gravity, remove, displacement, reset_displacements") &&
@@ -123,8 +101,9 @@ TEST_CASE("the actions of a stage act as before they were objects", "[stages]") 
   // A 1D column under a surface pressure q (plane strain, nu = 0, sides held: oedometric with
   // M = E): the surface settles q H / E; removing the load in a second stage brings it back.
   const double q = 50.0, H = 2.0, E = 10000.0;
-  auto a = scene(column + one_stage("type = \"pressure\"\nedges = \"soil.top\"\np = 50.0\nname = \"q\"\n") +
-                 "[[stages]]\nname = \"unload\"\n[[stages.actions]]\ntype = \"remove\"\nname = \"q\"\n");
+  auto a =
+      column_with(one_stage("type = \"pressure\"\nedges = \"soil.top\"\np = 50.0\nname = \"q\"\n") +
+                  "[[stages]]\nname = \"unload\"\n[[stages.actions]]\ntype = \"remove\"\nname = \"q\"\n");
   auto& m = a->model();
   const auto first = a->run();
   REQUIRE(first.outcome.ok());
@@ -132,51 +111,43 @@ TEST_CASE("the actions of a stage act as before they were objects", "[stages]") 
   const int top = stratum::testing::node_at(m, 0.5, 0.0);
   CHECK(std::abs(m.u[2 * top + 1]) < 1e-12 * q * H / E);
 
-  auto b = scene(column + one_stage("type = \"pressure\"\nedges = \"soil.top\"\np = 50.0\n"));
+  auto b = column_with(one_stage("type = \"pressure\"\nedges = \"soil.top\"\np = 50.0\n"));
   REQUIRE(b->run().outcome.ok());
   const int t = stratum::testing::node_at(b->model(), 0.5, 0.0);
   CHECK(std::abs(b->model().u[2 * t + 1] + q * H / E) < 1e-6 * q * H / E);
 }
 
 TEST_CASE("mesh generators are a plugin kind; blocks and gmsh stay the scene's own", "[mesh]") {
-  const std::string tail = R"(
-[materials.soil]
-model = "linear_elastic"
-E = 10000.0
-nu = 0.3
-[[domains]]
-cells = "all"
-element = "quad"
-material = "soil"
-[[constraints]]
-nodes = "bottom"
-uy = 0.0
-[[loads]]
-type = "gravity"
-gamma = 1.0
-)";
-  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"axisymmetric_pil\"\n" + tail),
-                    Catch::Contains("test.toml:2:13 [mesh] generator = \"axisymmetric_pil\" is not allowed; "
-                                    "allowed: one of: blocks, gmsh, axisymmetric_pile") &&
+  // tests/scenes/stage_actions/mesh_tail.toml: each case appends its [mesh] table, whose lines
+  // follow the file's last line n.
+  const std::string tail_path = stratum::testing::scene_path("stage_actions/mesh_tail.toml");
+  const std::string tail = stratum::testing::read_text(tail_path);
+  const auto n = std::count(tail.begin(), tail.end(), '\n');
+  const auto with_mesh = [&](const std::string& mesh) { return scene(tail + mesh, tail_path); };
+  const auto at = [&](long line, int column) {
+    return "stage_actions/mesh_tail.toml:" + std::to_string(n + line) + ":" + std::to_string(column);
+  };
+  CHECK_THROWS_WITH(with_mesh("[mesh]\ngenerator = \"axisymmetric_pil\"\n"),
+                    Catch::Contains(at(2, 13) + " [mesh] generator = \"axisymmetric_pil\" is not allowed; "
+                                                "allowed: one of: blocks, gmsh, axisymmetric_pile") &&
                         Catch::Contains("did you mean 'axisymmetric_pile'"));
   // A generator's parameters are checked against its schema, located in its table.
-  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"axisymmetric_pile\"\n[mesh.pile]\nradius = -1.0\n" + tail),
-                    Catch::Contains("test.toml:4:10") && Catch::Contains("radius = -1 is outside"));
-  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"axisymmetric_pile\"\n[mesh.pile]\nradiu = 1.0\n" + tail),
-                    Catch::Contains("test.toml:4:1") && Catch::Contains("did you mean 'radius'"));
+  CHECK_THROWS_WITH(with_mesh("[mesh]\ngenerator = \"axisymmetric_pile\"\n[mesh.pile]\nradius = -1.0\n"),
+                    Catch::Contains(at(4, 10)) && Catch::Contains("radius = -1 is outside"));
+  CHECK_THROWS_WITH(with_mesh("[mesh]\ngenerator = \"axisymmetric_pile\"\n[mesh.pile]\nradiu = 1.0\n"),
+                    Catch::Contains(at(4, 1)) && Catch::Contains("did you mean 'radius'"));
   // [mesh.pile] where it cannot act (a blocks mesh) is an error, not ignored.
-  CHECK_THROWS_WITH(scene("[mesh]\ngenerator = \"blocks\"\n[[mesh.blocks]]\nname = \"a\"\nx = [0.0, 1.0]\n"
-                          "y = [0.0, 1.0]\n[mesh.pile]\nradius = 1.0\n" +
-                          tail),
-                    Catch::Contains("'pile'"));
-  // The pile generator needs an axisymmetric scene: located at its table.
   CHECK_THROWS_WITH(
-      scene("[analysis]\nformulation = \"plane_strain\"\n[mesh]\ngenerator = \"axisymmetric_pile\"\n"
-            "[mesh.pile]\nradius = 0.2\n" +
-            tail),
-      Catch::Contains("test.toml:5:1") && Catch::Contains("needs [analysis] formulation = \"axisymmetric\""));
+      with_mesh("[mesh]\ngenerator = \"blocks\"\n[[mesh.blocks]]\nname = \"a\"\nx = [0.0, 1.0]\n"
+                "y = [0.0, 1.0]\n[mesh.pile]\nradius = 1.0\n"),
+      Catch::Contains("'pile'"));
+  // The pile generator needs an axisymmetric scene: located at its table.
+  CHECK_THROWS_WITH(with_mesh("[analysis]\nformulation = \"plane_strain\"\n[mesh]\ngenerator = "
+                              "\"axisymmetric_pile\"\n[mesh.pile]\nradius = 0.2\n"),
+                    Catch::Contains(at(5, 1)) &&
+                        Catch::Contains("needs [analysis] formulation = \"axisymmetric\""));
   // Built through the registry, the pile mesh has its documented sets.
-  auto a = scene("[mesh]\ngenerator = \"axisymmetric_pile\"\n" + tail);
+  auto a = with_mesh("[mesh]\ngenerator = \"axisymmetric_pile\"\n");
   for (const char* set : {"pile", "bore", "near", "far", "soil", "all"}) {
     INFO(set);
     CHECK(a->model().mesh.cell_sets.count(set) == 1);

@@ -25,47 +25,14 @@ namespace {
 
 constexpr double gamma_soil = 18.0, K0 = 0.6;
 
-const std::string column = R"(
-[analysis]
-formulation = "axisymmetric"
-[mesh]
-generator = "blocks"
-nodes_per_cell = 8
-[[mesh.blocks]]
-name = "bore"
-x = [0.0, 0.5]
-y = [-10.0, 0.0]
-nx = 2
-ny = 5
-[[mesh.blocks]]
-name = "soil"
-x = [0.5, 10.0]
-y = [-10.0, 0.0]
-nx = 6
-ny = 5
-grade_x = 4.0
-[materials.soil]
-model = "linear_elastic"
-E = 20000.0
-nu = 0.3
-[[domains]]
-cells = "bore"
-element = "quad"
-material = "soil"
-[[domains]]
-cells = "soil"
-element = "quad"
-material = "soil"
-[[constraints]]
-nodes = "left"
-ux = 0.0
-[[constraints]]
-nodes = "right"
-ux = 0.0
-[[constraints]]
-nodes = "bottom"
-uy = 0.0
-)";
+// tests/scenes/stages/column.toml: the base of this file's scenes (no loads, no stages).
+const std::string column_path = stratum::testing::scene_path("stages/column.toml");
+const std::string column = stratum::testing::read_text(column_path);
+
+/// The column with `stages` appended, built under the column file's name (errors located in it).
+std::unique_ptr<Analysis> column_with(const std::string& stages) {
+  return scene(column + stages, column_path);
+}
 
 std::string geostatic_stage() {
   return R"(
@@ -102,7 +69,7 @@ double geostatic_error(const Model& m) {
 
 TEST_CASE("geostatic stage: sigma_v = gamma z, sigma_h = K0 gamma z, in equilibrium, zero displacement",
           "[stages]") {
-  auto a = scene(column + geostatic_stage());
+  auto a = stratum::testing::test_scene("stages/geostatic.toml");
   const Model* m = &a->model();
   auto s = a->run();
   REQUIRE(s.outcome.ok());
@@ -117,20 +84,7 @@ TEST_CASE("geostatic stage: sigma_v = gamma z, sigma_h = K0 gamma z, in equilibr
 }
 
 TEST_CASE("boring releases the wall over the stage's steps", "[stages]") {
-  auto b = scene(column + geostatic_stage() + R"(
-[[stages]]
-name = "bore"
-steps = 4
-[[stages.actions]]
-type = "deactivate"
-cells = "bore"
-[[stages]]
-name = "refill"
-steps = 4
-[[stages.actions]]
-type = "activate"
-cells = "bore"
-)");
+  auto b = stratum::testing::test_scene("stages/bore_and_refill.toml");
   auto sb = b->run();
   REQUIRE(sb.outcome.ok());
   // Boring released the wall: the soil near it moved inwards and lost radial stress.
@@ -141,13 +95,10 @@ cells = "bore"
 
 TEST_CASE("boring a cylindrical cavity under in-situ stress: the closed-form unloading of the wall",
           "[stages]") {
-  // tests/scenes/boring_cavity.toml: a plane-strain ring (axisymmetric slice, u_z = 0 on top and
+  // tests/scenes/stages/boring_cavity.toml: a plane-strain ring (axisymmetric slice, u_z = 0 on top and
   // bottom) a = 0.5 m .. b = 5 m, u_r(b) = 0, under sigma_h = K0 sigma_v = -p0; boring the core
   // releases the wall. Closed form u = A r + B / r of the release (see the scene's header).
-  RunOptions o;
-  o.plugin_dirs = {STRATUM_PLUGIN_DIR};
-  o.write_output = false;
-  auto an = Analysis::from_file(std::string(STRATUM_SOURCE_DIR) + "/tests/scenes/boring_cavity.toml", o);
+  auto an = stratum::testing::test_scene("stages/boring_cavity.toml");
   const auto s = an->run();
   REQUIRE(s.outcome.ok());
   REQUIRE(s.stages_done == 2);
@@ -214,30 +165,7 @@ TEST_CASE("excavation then refilling with the same material in the same state re
   // Deactivating the bore and placing it again (stress-free cells would not restore it, so the
   // refill re-applies the geostatic action to the bore cells) within one stage: the released
   // and re-applied forces cancel and the state stays geostatic to round-off.
-  auto a = scene(column + geostatic_stage() + R"(
-[[stages]]
-name = "bore_and_refill"
-steps = 3
-[[stages.actions]]
-type = "deactivate"
-cells = "bore"
-[[stages.actions]]
-type = "activate"
-cells = "bore"
-[[stages.actions]]
-type = "geostatic"
-cells = "bore"
-gamma = 18.0
-K0 = 0.6
-name = "bore_weight"
-[[stages.actions]]
-type = "remove"
-name = "self_weight"
-[[stages.actions]]
-type = "gravity"
-cells = "soil"
-gamma = 18.0
-)");
+  auto a = stratum::testing::test_scene("stages/refill_in_one_stage.toml");
   auto s = a->run();
   REQUIRE(s.outcome.ok());
   CHECK(geostatic_error(a->model()) < 1e-6);
@@ -249,58 +177,7 @@ TEST_CASE("fresh-concrete pressure on an elastic borehole: the wall carries the 
   // A plane-strain ring a = 0.5 .. b = 5 m (u_z = 0, u_r(b) = 0) without self-weight: the core is
   // removed and p acts on the wall. Closed form u = A r + B / r with u(b) = 0, sigma_r(a) = -p.
   const double p = 50.0, E = 20000.0, nu = 0.3, ra = 0.5, rb = 5.0;
-  auto a = scene(R"(
-[analysis]
-formulation = "axisymmetric"
-[mesh]
-generator = "blocks"
-nodes_per_cell = 8
-[[mesh.blocks]]
-name = "bore"
-x = [0.0, 0.5]
-y = [0.0, 0.5]
-nx = 2
-ny = 1
-[[mesh.blocks]]
-name = "ring"
-x = [0.5, 5.0]
-y = [0.0, 0.5]
-nx = 24
-ny = 1
-grade_x = 8.0
-[materials.soil]
-model = "linear_elastic"
-E = 20000.0
-nu = 0.3
-[[domains]]
-cells = "bore"
-element = "quad"
-material = "soil"
-[[domains]]
-cells = "ring"
-element = "quad"
-material = "soil"
-[[constraints]]
-nodes = "top"
-uy = 0.0
-[[constraints]]
-nodes = "bottom"
-uy = 0.0
-[[constraints]]
-nodes = "right"
-ux = 0.0
-[[stages]]
-name = "bore_and_concrete"
-steps = 2
-[[stages.actions]]
-type = "deactivate"
-cells = "bore"
-[[stages.actions]]
-type = "pressure"
-edges = "ring.left"
-p = 50.0
-name = "fresh_concrete"
-)");
+  auto a = stratum::testing::test_scene("stages/fresh_concrete_pressure.toml");
   auto s = a->run();
   REQUIRE(s.outcome.ok());
   const Model& m = a->model();
@@ -338,124 +215,16 @@ name = "fresh_concrete"
 
 namespace {
 
-const std::string mini_pile = R"(
-[analysis]
-formulation = "axisymmetric"
-[mesh]
-generator = "blocks"
-nodes_per_cell = 8
-[[mesh.blocks]]
-name = "pile"
-x = [0.0, 0.15]
-y = [-2.0, 0.0]
-nx = 1
-ny = 4
-[[mesh.blocks]]
-name = "soil"
-x = [0.15, 3.0]
-y = [-2.0, 0.0]
-nx = 5
-ny = 4
-grade_x = 4.0
-[[mesh.blocks]]
-name = "below_pile"
-x = [0.0, 0.15]
-y = [-4.0, -2.0]
-nx = 1
-ny = 2
-[[mesh.blocks]]
-name = "below"
-x = [0.15, 3.0]
-y = [-4.0, -2.0]
-nx = 5
-ny = 2
-grade_x = 4.0
-[materials.soil]
-model = "drucker_prager"
-E = 15000.0
-nu = 0.3
-c = 5.0
-phi = 25.0
-[materials.concrete]
-model = "linear_elastic"
-E = 3.0e7
-nu = 0.2
-[[domains]]
-cells = "soil"
-element = "quad"
-material = "soil"
-[[domains]]
-cells = "below"
-element = "quad"
-material = "soil"
-[[domains]]
-cells = "below_pile"
-element = "quad"
-material = "soil"
-[[domains]]
-cells = "pile"
-element = "quad"
-material = "concrete"
-[[constraints]]
-nodes = "left"
-ux = 0.0
-[[constraints]]
-nodes = "right"
-ux = 0.0
-[[constraints]]
-nodes = "bottom"
-uy = 0.0
-[output]
-vtk = false
-pile_cells = "pile"
-[[stages]]
-name = "geostatic"
-[[stages.actions]]
-type = "geostatic"
-gamma = 18.0
-K0 = 0.6
-[[stages]]
-name = "boring"
-steps = 2
-[[stages.actions]]
-type = "deactivate"
-cells = "pile"
-[[stages.actions]]
-type = "pressure"
-edges = "soil.left"
-gamma = 24.0
-name = "fresh_concrete"
-[[stages]]
-name = "concrete"
-[[stages.actions]]
-type = "activate"
-cells = "pile"
-stress = "hydrostatic"
-gamma = 24.0
-[[stages.actions]]
-type = "remove"
-name = "fresh_concrete"
-[[stages.actions]]
-type = "gravity"
-cells = "pile"
-gamma = 24.0
-[[stages.actions]]
-type = "reset_displacements"
-[[stages]]
-name = "loading"
-steps = 5
-[[stages.actions]]
-type = "load"
-edges = "pile.top"
-force = 60.0
-)";
+// tests/scenes/stages/mini_pile.toml: four stages of a small bored pile, a checkpoint after each.
+const std::string mini_pile_path = stratum::testing::scene_path("stages/mini_pile.toml");
+const std::string mini_pile = stratum::testing::read_text(mini_pile_path);
 
 std::unique_ptr<Analysis> run_in(const std::string& dir, const std::string& restart = "") {
   RunOptions o;
   o.plugin_dirs = {STRATUM_PLUGIN_DIR};
   o.out_dir = dir;
   o.restart_from = restart;
-  return Analysis::from_string(mini_pile, "mini_pile.toml", std::move(o));
+  return Analysis::from_string(mini_pile, mini_pile_path, std::move(o));
 }
 
 } // namespace
@@ -510,7 +279,7 @@ TEST_CASE("a run restarted from a stage checkpoint is bit-identical to the unint
     std::string other = mini_pile;
     for (auto at = other.find("nx = 5"); at != std::string::npos; at = other.find("nx = 5"))
       other.replace(at, 6, "nx = 6");
-    auto c = Analysis::from_string(other, "other.toml", std::move(o));
+    auto c = Analysis::from_string(other, mini_pile_path, std::move(o));
     CHECK_THROWS_WITH(c->run(), Catch::Contains("belongs to another scene"));
   }
   // The same counts of nodes, cells and stages, but not the same scene (found on 997ba04: such
@@ -524,12 +293,12 @@ TEST_CASE("a run restarted from a stage checkpoint is bit-identical to the unint
     REQUIRE(text.find(from) != std::string::npos);
     for (auto at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
       text.replace(at, from.size(), to);
-    return Analysis::from_string(text, "variant.toml", std::move(o));
+    return Analysis::from_string(text, mini_pile_path, std::move(o));
   };
   SECTION("a checkpoint of a scene with another material is refused, naming the material") {
     auto c = restart_with("E = 3.0e7", "E = 1.0e3", s1.checkpoints[2]);
     CHECK_THROWS_WITH(c->run(),
-                      Catch::Contains("variant.toml:") &&
+                      Catch::Contains("stages/mini_pile.toml:") &&
                           Catch::Contains("[materials.concrete] differs from the scene that wrote"));
   }
   SECTION("a checkpoint of a scene with moved nodes is refused, naming the mesh") {
@@ -558,26 +327,27 @@ TEST_CASE("a run restarted from a stage checkpoint is bit-identical to the unint
 
 TEST_CASE("integers are checked in the range they are used in, not cut to 32 bits", "[stages][cli]") {
   // 2^32 + 8 cells and 2^32 + 1 steps were taken as 8 cells and 1 step on 997ba04.
-  CHECK_THROWS_WITH(scene(std::string(mini_pile).replace(std::string(mini_pile).find("steps = 5"), 9,
-                                                         "steps = 4294967297")),
-                    Catch::Contains("test.toml:") &&
-                        Catch::Contains("steps = 4294967297 is outside [1, 2147483647]"));
+  CHECK_THROWS_WITH(
+      scene(std::string(mini_pile).replace(std::string(mini_pile).find("steps = 5"), 9, "steps = 4294967297"),
+            mini_pile_path),
+      Catch::Contains("stages/mini_pile.toml:") &&
+          Catch::Contains("steps = 4294967297 is outside [1, 2147483647]"));
   const std::string text = mini_pile;
   const auto at = text.find("nx = 5");
   REQUIRE(at != std::string::npos);
-  CHECK_THROWS_WITH(scene(std::string(text).replace(at, 6, "nx = 4294967304")),
+  CHECK_THROWS_WITH(scene(std::string(text).replace(at, 6, "nx = 4294967304"), mini_pile_path),
                     Catch::Contains("nx = 4294967304 is outside [1, 2147483647]"));
 }
 
 TEST_CASE("stage input errors are located and list what is allowed", "[stages]") {
-  CHECK_THROWS_WITH(scene(column + R"(
+  CHECK_THROWS_WITH(column_with(R"(
 [[stages]]
 name = "x"
 [[stages.actions]]
 type = "excavate"
 )"),
-                    Catch::Contains("test.toml:") && Catch::Contains("allowed: one of: geostatic"));
-  CHECK_THROWS_WITH(scene(column + R"(
+                    Catch::Contains("stages/column.toml:") && Catch::Contains("allowed: one of: geostatic"));
+  CHECK_THROWS_WITH(column_with(R"(
 [[stages]]
 name = "x"
 [[stages.actions]]
@@ -585,13 +355,13 @@ type = "remove"
 name = "nothing"
 )"),
                     Catch::Contains("is not an applied load"));
-  CHECK_THROWS_WITH(scene(column + R"(
+  CHECK_THROWS_WITH(column_with(R"(
 [[stages]]
 name = "x"
 increments = [0.5, 0.4]
 )"),
                     Catch::Contains("must sum to 1"));
-  CHECK_THROWS_WITH(scene(column + R"(
+  CHECK_THROWS_WITH(column_with(R"(
 [[loads]]
 type = "gravity"
 gamma = 1.0
@@ -608,112 +378,7 @@ TEST_CASE("a pile cast into a bored hole keeps the fresh-concrete pressure on it
   // wall does not move back (interfaces count their jump from the placed state, not from the
   // nodal displacements of the moved wall and the new pile nodes).
   const double gc = 24.0;
-  auto a = scene(R"(
-[analysis]
-formulation = "axisymmetric"
-[mesh]
-generator = "axisymmetric_pile"
-nodes_per_cell = 8
-[mesh.pile]
-radius = 0.135
-length = 3.0
-near_radius = 1.35
-near_depth = 4.5
-domain_radius = 6.0
-domain_depth = 9.0
-n_pile = 1
-n_shaft = 6
-n_near = 4
-n_far = 3
-n_below = 3
-n_deep = 2
-[materials.soil]
-model = "linear_elastic"
-E = 20000.0
-nu = 0.3
-[materials.concrete]
-model = "linear_elastic"
-E = 31.5e6
-nu = 0.2
-[[domains]]
-cells = "soil"
-element = "quad"
-material = "soil"
-[[domains]]
-cells = "pile"
-element = "quad"
-material = "concrete"
-[contact_laws.shaft]
-model = "goodman_nonlinear"
-k_s0 = 1.0
-alpha = 24100.0
-m = 0.89
-c_peak = 10.0
-phi_peak = 29.0
-c_residual = 10.0
-phi_residual = 29.0
-k_n = 1.0e7
-[[interfaces]]
-name = "pile_interface"
-edges = "hole"
-cells = "pile"
-element = "interface_line"
-law = "shaft"
-[[constraints]]
-nodes = "axis"
-ux = 0.0
-[[constraints]]
-nodes = "far_side"
-ux = 0.0
-[[constraints]]
-nodes = "bottom"
-ux = 0.0
-uy = 0.0
-[[stages]]
-name = "geostatic"
-[[stages.actions]]
-type = "deactivate"
-cells = "pile"
-[[stages.actions]]
-type = "deactivate"
-cells = "pile_interface"
-[[stages.actions]]
-type = "geostatic"
-cells = "soil"
-gamma = 17.4
-K0 = 0.56
-[[stages]]
-name = "boring"
-steps = 2
-[[stages.actions]]
-type = "deactivate"
-cells = "bore"
-[[stages.actions]]
-type = "pressure"
-name = "fresh_concrete"
-edges = "hole"
-gamma = 24.0
-[[stages]]
-name = "concrete"
-[[stages.actions]]
-type = "activate"
-cells = "pile"
-stress = "hydrostatic"
-gamma = 24.0
-[[stages.actions]]
-type = "activate"
-cells = "pile_interface"
-stress = "hydrostatic"
-gamma = 24.0
-[[stages.actions]]
-type = "remove"
-name = "fresh_concrete"
-[[stages.actions]]
-type = "gravity"
-name = "pile_weight"
-cells = "pile"
-gamma = 24.0
-)");
+  auto a = stratum::testing::test_scene("stages/cast_pile_interface.toml");
   auto s = a->run();
   REQUIRE(s.outcome.ok());
   const Model& m = a->model();
@@ -740,81 +405,8 @@ TEST_CASE("each stage gets its own solver: initial_stiffness factorizes the stag
   // initial stiffness of each stage solves its steps in one correction. On 997ba04 one solver
   // object served both stages and kept stage 1's factorization (the problem object of stage 2
   // sat at the same address with the same size): stage 2 iterated with the soil-filled matrix.
-  const std::string text = R"(
-[analysis]
-formulation = "axisymmetric"
-solver = "initial_stiffness"
-[convergence]
-force_rtol = 1e-10
-max_iterations = 200
-[mesh]
-generator = "axisymmetric_pile"
-nodes_per_cell = 8
-[mesh.pile]
-radius = 0.25
-length = 3.0
-near_radius = 1.5
-near_depth = 4.5
-domain_radius = 6.0
-domain_depth = 9.0
-n_pile = 1
-n_shaft = 4
-n_near = 3
-n_far = 2
-n_below = 2
-n_deep = 2
-[materials.soil]
-model = "linear_elastic"
-E = 20000.0
-nu = 0.3
-[materials.concrete]
-model = "linear_elastic"
-E = 3.0e7
-nu = 0.2
-[[domains]]
-cells = "soil"
-element = "quad"
-material = "soil"
-[[domains]]
-cells = "pile"
-element = "quad"
-material = "concrete"
-[[constraints]]
-nodes = "axis"
-ux = 0.0
-[[constraints]]
-nodes = "far_side"
-ux = 0.0
-[[constraints]]
-nodes = "bottom"
-ux = 0.0
-uy = 0.0
-[[stages]]
-name = "soil"
-steps = 2
-[[stages.actions]]
-type = "deactivate"
-cells = "pile"
-[[stages.actions]]
-type = "load"
-name = "surface_load"
-edges = "surface"
-force = 50.0
-[[stages]]
-name = "pile"
-steps = 2
-[[stages.actions]]
-type = "deactivate"
-cells = "bore"
-[[stages.actions]]
-type = "activate"
-cells = "pile"
-[[stages.actions]]
-type = "load"
-cells = "pile"
-force = 100.0
-)";
-  auto a = scene(text, "two_stage_initial.toml");
+
+  auto a = stratum::testing::test_scene("stages/two_stage_initial_stiffness.toml");
   const auto run = a->run();
   INFO(run.outcome.message);
   REQUIRE(run.outcome.ok());
@@ -832,9 +424,11 @@ TEST_CASE("scenes that would solve nothing or a singular system are refused with
           "[stages][cli]") {
   // Each of these ran to exit 0 on 997ba04: a trivial analysis, a zero load, a singular matrix
   // "converged" in one iteration.
-  CHECK_THROWS_WITH(scene("stages = []\n" + column),
-                    Catch::Contains("test.toml:1:") && Catch::Contains("stages = [] holds no stage"));
-  CHECK_THROWS_WITH(scene(column), Catch::Contains("the scene applies nothing: no [[loads]], no [[stages]]"));
+  CHECK_THROWS_WITH(scene("stages = []\n" + column, column_path),
+                    Catch::Contains("stages/column.toml:1:") &&
+                        Catch::Contains("stages = [] holds no stage"));
+  CHECK_THROWS_WITH(column_with(""),
+                    Catch::Contains("the scene applies nothing: no [[loads]], no [[stages]]"));
   const std::string unheld = column.substr(0, column.find("[[constraints]]")) + R"(
 [[stages]]
 name = "weight"
@@ -843,8 +437,8 @@ type = "gravity"
 cells = "soil"
 gamma = 18.0
 )";
-  CHECK_THROWS_WITH(scene(unheld),
-                    Catch::Contains("test.toml:") && Catch::Contains("has no [[constraints]]"));
+  CHECK_THROWS_WITH(scene(unheld, column_path),
+                    Catch::Contains("stages/column.toml:") && Catch::Contains("has no [[constraints]]"));
   // A prescribed head settlement holds the model: no error for that reason.
   const std::string pushed = unheld + R"(
 [[stages]]
@@ -855,7 +449,7 @@ cells = "bore"
 settlement = 0.01
 )";
   try {
-    (void)scene(pushed);
+    (void)scene(pushed, column_path);
   } catch (const Error& e) {
     CHECK(std::string(e.what()).find("has no [[constraints]]") == std::string::npos);
   }
@@ -868,27 +462,8 @@ TEST_CASE("each stage gets its own solver: arc_length judges the work switch aga
   // 1 when its reference F.K^-1 F is the stage's own, so every step stays on the arc length and
   // the load factor grows in equal steps. On 997ba04 arc_length kept stage 1's reference (1e4
   // times smaller): S = 1e-4 switched stage 2 to constant work, whose steps shrink.
-  std::string text = column;
-  text.insert(text.find("[mesh]"), "solver = \"arc_length\"\n[solver]\nwork_switch = 0.3\n");
-  text += R"(
-[[stages]]
-name = "small"
-steps = 4
-[[stages.actions]]
-type = "load"
-name = "a"
-edges = "bore.top"
-force = 10.0
-[[stages]]
-name = "large"
-steps = 4
-[[stages.actions]]
-type = "load"
-name = "b"
-edges = "bore.top"
-force = 1000.0
-)";
-  auto a = scene(text, "two_stage_arc.toml");
+
+  auto a = stratum::testing::test_scene("stages/two_stage_arc_length.toml");
   const auto run = a->run();
   INFO(run.outcome.message);
   REQUIRE(run.outcome.ok());
@@ -915,7 +490,7 @@ TEST_CASE("an output folder belongs to one run: a second run into it is refused,
     RunOptions o;
     o.plugin_dirs = {STRATUM_PLUGIN_DIR};
     o.out_dir = dir;
-    return Analysis::from_string(text, "mini_pile.toml", std::move(o));
+    return Analysis::from_string(text, mini_pile_path, std::move(o));
   };
   std::string shorter = mini_pile;
   shorter.replace(shorter.find("vtk = false"), 11, "vtk = true");
@@ -974,7 +549,7 @@ TEST_CASE("an output folder belongs to one run: a second run into it is refused,
     RunOptions o;
     o.plugin_dirs = {STRATUM_PLUGIN_DIR};
     o.out_dir = (base / "file").string();
-    auto c = Analysis::from_string(shorter, "mini_pile.toml", std::move(o));
+    auto c = Analysis::from_string(shorter, mini_pile_path, std::move(o));
     CHECK_THROWS_WITH(c->run(), Catch::Contains("exists and is not a folder"));
   }
   fs::remove_all(base);
@@ -1015,8 +590,8 @@ TEST_CASE("[output] pile_cells must name a cell set: located at check, not map::
           "[stages][cli]") {
   std::string text = mini_pile;
   text.replace(text.find("pile_cells = \"pile\""), 19, "pile_cells = \"piles\"");
-  CHECK_THROWS_WITH(scene(text),
-                    Catch::Contains("test.toml:") &&
+  CHECK_THROWS_WITH(scene(text, mini_pile_path),
+                    Catch::Contains("stages/mini_pile.toml:") &&
                         Catch::Contains("[output] pile_cells = \"piles\" is not a cell set of the mesh; "
                                         "known: "));
 }
@@ -1030,16 +605,19 @@ TEST_CASE("what a stage inherits: [analysis] steps cannot act beside [[stages]];
   std::string with_steps = column;
   with_steps.replace(with_steps.find("formulation = \"axisymmetric\""), 28,
                      "formulation = \"axisymmetric\"\nsteps = 10");
-  CHECK_THROWS_WITH(scene(with_steps + geostatic_stage()),
-                    Catch::Contains("test.toml:4:9 [analysis] steps cannot act in a scene with [[stages]]"));
+  CHECK_THROWS_WITH(
+      scene(with_steps + geostatic_stage(), column_path),
+      Catch::Contains("stages/column.toml:10:9 [analysis] steps cannot act in a scene with [[stages]]"));
   std::string with_inc = column;
   with_inc.replace(with_inc.find("formulation = \"axisymmetric\""), 28,
                    "formulation = \"axisymmetric\"\nincrements = [0.5, 0.5]");
   CHECK_THROWS_WITH(
-      scene(with_inc + geostatic_stage()),
-      Catch::Contains("test.toml:4:14 [analysis] increments cannot act in a scene with [[stages]]"));
+      scene(with_inc + geostatic_stage(), column_path),
+      Catch::Contains(
+          "stages/column.toml:10:14 [analysis] increments cannot act in a scene with [[stages]]"));
   // Without stages [analysis] steps acts (the one load case), and max_cutbacks is inherited.
-  CHECK_NOTHROW(scene(with_steps + "[[loads]]\ntype = \"gravity\"\ngamma = 18.0\ncells = \"soil\"\n"));
+  CHECK_NOTHROW(
+      scene(with_steps + "[[loads]]\ntype = \"gravity\"\ngamma = 18.0\ncells = \"soil\"\n", column_path));
   // A stage that can end the run is the last one (found on 997ba04: a loading stage placed first
   // stopped the run with exit 0 and the later stages never ran).
   auto stage = [](const std::string& keys) {
@@ -1049,15 +627,15 @@ TEST_CASE("what a stage inherits: [analysis] steps cannot act beside [[stages]];
   const std::string later = "[[stages]]\nname = \"later\"\n[[stages.actions]]\ntype = \"deactivate\"\n"
                             "cells = \"bore\"\n";
   CHECK_THROWS_WITH(
-      scene(column + stage("until_failure = true\n") + later),
+      column_with(stage("until_failure = true\n") + later),
       Catch::Contains("[[stages]] \"geostatic\" has until_failure = true, which ends the run, but "
                       "stage \"later\" follows it"));
-  CHECK_THROWS_WITH(scene(column + stage("stop_settlement = 0.01\nmonitor = \"top\"\n") + later),
+  CHECK_THROWS_WITH(column_with(stage("stop_settlement = 0.01\nmonitor = \"top\"\n") + later),
                     Catch::Contains("[[stages]] \"geostatic\" has stop_settlement"));
-  CHECK_NOTHROW(scene(column + later + stage("until_failure = true\n")));
-  CHECK_THROWS_WITH(scene(column + stage("collapse_stiffness = 0.2\n")),
+  CHECK_NOTHROW(column_with(later + stage("until_failure = true\n")));
+  CHECK_THROWS_WITH(column_with(stage("collapse_stiffness = 0.2\n")),
                     Catch::Contains("collapse_stiffness acts only in a stage with until_failure = true"));
-  CHECK_NOTHROW(scene(column + stage("until_failure = true\ncollapse_stiffness = 0.2\n")));
+  CHECK_NOTHROW(column_with(stage("until_failure = true\ncollapse_stiffness = 0.2\n")));
 }
 
 TEST_CASE("diagnostics.csv and the curves grow while a stage runs (tables_every)", "[stages]") {
@@ -1076,10 +654,7 @@ TEST_CASE("diagnostics.csv and the curves grow while a stage runs (tables_every)
     for (std::string line; std::getline(d, line);) ++n;
     rows_seen.push_back(n);
   };
-  const std::string text = column + "[output]\nvtk = false\ntables_every = 0.0\n" + geostatic_stage() +
-                           "[[stages]]\nname = \"load\"\nsteps = 4\n[[stages.actions]]\ntype = \"pressure\"\n"
-                           "edges = \"soil.top\"\np = 10.0\n";
-  auto a = Analysis::from_string(text, "test.toml", o);
+  auto a = Analysis::from_file(stratum::testing::scene_path("stages/tables_every.toml"), o);
   const RunSummary s = a->run();
   REQUIRE(s.outcome.ok());
   // on_step runs before the step's tables are written: step k of stage 2 sees the header, stage 1's

@@ -54,7 +54,7 @@ std::unique_ptr<stratum::Analysis> from_file(const std::string& relative) {
 /// The error message of building `toml` as a scene ("" when it builds).
 std::string scene_error(const std::string& toml) {
   try {
-    static_cast<void>(stratum::testing::scene(toml));
+    static_cast<void>(stratum::testing::scene(toml, stratum::testing::scene_path("units/square.toml")));
   } catch (const Error& e) {
     return e.what();
   }
@@ -237,51 +237,35 @@ TEST_CASE("units: defaults declared in kN, m, kPa convert into the scene's units
 TEST_CASE(
     "units: a bad unit, a stress that does not follow and a plugin that cannot follow are located errors",
     "[units]") {
-  const std::string tail = R"(
-[mesh]
-generator = "blocks"
-[[mesh.blocks]]
-name = "b"
-x = [0.0, 1.0]
-y = [0.0, 1.0]
-[materials.m]
-model = "linear_elastic"
-E = 1.0
-[[domains]]
-cells = "b"
-element = "quad"
-material = "m"
-[[constraints]]
-nodes = "bottom"
-ux = 0.0
-uy = 0.0
-[[loads]]
-type = "pressure"
-edges = "b.top"
-p = 1.0
-)";
-  const std::string bad_force = scene_error("[units]\nforce = \"kn\"\n" + tail);
+  // tests/scenes/units/square.toml, read as text: each case appends a [units] table to it, so its
+  // keys are on the lines after the file's last line n.
+  const std::string square = stratum::testing::scene_path("units/square.toml");
+  const std::string base = stratum::testing::read_text(square);
+  const auto n = std::count(base.begin(), base.end(), '\n');
+  const auto at = [&](long line, int column) {
+    return square + ":" + std::to_string(n + line) + ":" + std::to_string(column) + " ";
+  };
+  const std::string bad_force = scene_error(base + "[units]\nforce = \"kn\"\n");
   CHECK_THAT(bad_force,
-             Catch::StartsWith("test.toml:2:9 [units] force = \"kn\" is not allowed; allowed: one of: "
-                               "N, kN, MN; did you mean 'kN'?"));
-  const std::string bad_length = scene_error("[units]\nlength = \"inch\"\n" + tail);
-  CHECK_THAT(bad_length,
-             Catch::StartsWith("test.toml:2:10 [units] length = \"inch\" is not allowed; allowed: "
-                               "one of: mm, cm, m"));
+             Catch::StartsWith(at(2, 9) + "[units] force = \"kn\" is not allowed; allowed: one of: "
+                                          "N, kN, MN; did you mean 'kN'?"));
+  const std::string bad_length = scene_error(base + "[units]\nlength = \"inch\"\n");
+  CHECK_THAT(bad_length, Catch::StartsWith(at(2, 10) + "[units] length = \"inch\" is not allowed; allowed: "
+                                                       "one of: mm, cm, m"));
   const std::string bad_stress =
-      scene_error("[units]\nforce = \"N\"\nlength = \"mm\"\nstress = \"kPa\"\n" + tail);
-  CHECK_THAT(bad_stress, Catch::StartsWith("test.toml:4:10 [units] stress = \"kPa\" does not follow") &&
+      scene_error(base + "[units]\nforce = \"N\"\nlength = \"mm\"\nstress = \"kPa\"\n");
+  CHECK_THAT(bad_stress, Catch::StartsWith(at(4, 10) + "[units] stress = \"kPa\" does not follow") &&
                              Catch::Contains("allowed: MPa, N/mm2"));
-  CHECK(scene_error("[units]\nforce = \"N\"\nlength = \"mm\"\nstress = \"N/mm2\"\n" + tail) == "");
-  const std::string bad_key = scene_error("[units]\nlenght = \"mm\"\n" + tail);
+  CHECK(scene_error(base + "[units]\nforce = \"N\"\nlength = \"mm\"\nstress = \"N/mm2\"\n") == "");
+  const std::string bad_key = scene_error(base + "[units]\nlenght = \"mm\"\n");
   CHECK_THAT(bad_key, Catch::Contains("did you mean 'length'?"));
   // A UMAT is compiled code: in N, mm it is refused (located at the [units] declaration) unless
   // the user vouches for it with any_units = true.
   const std::string elastic = "model = \"linear_elastic\"\nE = 1.0";
-  std::string umat = "[units]\nforce = \"N\"\nlength = \"mm\"\n" + tail;
+  std::string umat = base + "[units]\nforce = \"N\"\nlength = \"mm\"\n";
   umat.replace(umat.find(elastic), elastic.size(), "model = \"umat\"\nlibrary = \"no_such_library.so\"");
-  CHECK_THAT(scene_error(umat), Catch::StartsWith("test.toml:2:9 [materials.m] cannot compute in [units] N, "
-                                                  "mm, MPa: a UMAT is compiled code"));
+  CHECK_THAT(scene_error(umat), Catch::StartsWith(at(2, 9) + "[materials.m] cannot compute in [units] N, "
+                                                             "mm, MPa: a UMAT is compiled code"));
   std::string vouched = umat;
   vouched.replace(vouched.find("library ="), 0, "any_units = true\n");
   CHECK_THAT(scene_error(vouched), Catch::Contains("no_such_library.so") && !Catch::Contains("[units]"));

@@ -102,6 +102,42 @@ Schema path_schema(const std::string& type) {
   return s;
 }
 
+/// `[material] from = "<name>"`: the material is the set [materials.<name>] of an included shared
+/// file (inputs/materials/), the keys written in [material] beside `from` overriding the set's. The
+/// set's values are moved in, keeping their source positions (messages point into the shared file).
+void take_shared_set(toml::table& root, toml::table& mt) {
+  toml::node* sets = root.get("materials");
+  const toml::node* from = mt.get("from");
+  if (!from) {
+    if (sets)
+      throw Error(location(*sets), "[materials] in a point file is used through [material] from = \"<name>\" "
+                                   "(e.g. from = \"loess\" for [materials.loess] of an included file)");
+    return;
+  }
+  if (!from->is_string())
+    throw Error(location(*from),
+                "[material] from = " + io::show(*from) +
+                    "; allowed: the name of a [materials.<name>] table, e.g. from = \"loess\"");
+  const std::string name = from->as_string()->get();
+  toml::table* set = sets && sets->is_table() ? sets->as_table()->get_as<toml::table>(name) : nullptr;
+  if (!set) {
+    std::vector<std::string> known;
+    if (sets && sets->is_table())
+      for (auto&& [key, value] : *sets->as_table()) known.push_back(std::string(key.str()));
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw Error(location(*from), "[material] from = \"" + name + "\": no table [materials." + name +
+                                     "] (include the shared file that holds it); known: " +
+                                     (list.empty() ? "none" : list) + did_you_mean(name, known));
+  }
+  for (auto&& [set_key, value] : *set) {
+    const toml::key key = set_key; // with its source position
+    if (!mt.contains(key.str())) value.visit([&](auto&& v) { mt.insert(key, std::move(v)); });
+  }
+  mt.erase("from");
+  root.erase("materials");
+}
+
 const std::vector<std::string> path_types{"triaxial_drained", "triaxial_undrained", "oedometer",
                                           "isotropic",        "simple_shear",       "mixed"};
 
@@ -134,17 +170,20 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
   toml::table root = io::parse_with_includes(text, path);
   for (auto&& [key, value] : root)
     if (key.str() != "title" && key.str() != "units" && key.str() != "material" && key.str() != "initial" &&
-        key.str() != "paths")
-      throw Error(location(key.source()),
-                  "unknown key '" + std::string(key.str()) +
-                      "' at the top level; allowed: title, units, material, initial, paths" +
-                      did_you_mean(key.str(), {"title", "units", "material", "initial", "paths"}));
+        key.str() != "paths" && key.str() != "materials")
+      throw Error(
+          location(key.source()),
+          "unknown key '" + std::string(key.str()) +
+              "' at the top level; allowed: title, units, material, initial, paths, materials (an "
+              "included shared set, taken by [material] from)" +
+              did_you_mean(key.str(), {"title", "units", "material", "initial", "paths", "materials"}));
   auto impl = std::make_unique<Impl>();
   impl->units = scene::read_units(root); // stresses in force/length^2, the labels follow
   impl->catalog = std::make_unique<PluginCatalog>(dirs.empty() ? PluginCatalog::default_directories() : dirs);
 
-  const auto* mt = root.get("material") ? root.get("material")->as_table() : nullptr;
+  auto* mt = root.get("material") ? root.get("material")->as_table() : nullptr;
   if (!mt) throw Error(location(root), "point file needs a [material] table with model = \"...\"");
+  take_shared_set(root, *mt);
   const std::string model = io::require_string(*mt, "model", "[material]");
   impl->material = scene::plugin_from_table<Material>(
       *impl->catalog, impl->registry, model, location(*mt->get("model")),

@@ -10,11 +10,13 @@
 // Usage: bench_solvers [--no-write] [--docs PATH] [--plugin-dir DIR]
 #include "docs_section.hpp"
 #include "stratum/analysis.hpp"
+#include "stratum/error.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <numbers>
 #include <sstream>
@@ -28,61 +30,25 @@ namespace {
 constexpr const char* begin_marker = "<!-- bench_solvers:begin -->";
 constexpr const char* end_marker = "<!-- bench_solvers:end -->";
 
+/// tools/benchmarks/scenes/footing_solvers.toml with `analysis` and `solver` lines added to its
+/// [analysis] and [solver] tables and the pressure p (kPa, written with 6 significant digits).
 std::string scene(const std::string& analysis, const std::string& solver, double p) {
-  std::ostringstream s;
-  s << "[analysis]\nformulation = \"plane_strain\"\n"
-    << analysis << "\n[solver]\n"
-    << solver << R"(
-[convergence]
-force_rtol = 1e-9
-max_iterations = 400
-[mesh]
-generator = "blocks"
-nodes_per_cell = 8
-[[mesh.blocks]]
-name = "foot"
-x = [0.0, 1.0]
-y = [-4.0, 0.0]
-nx = 6
-ny = 12
-grade_x = 0.4
-grade_y = 0.1
-[[mesh.blocks]]
-name = "side"
-x = [1.0, 5.0]
-y = [-4.0, 0.0]
-nx = 8
-ny = 12
-grade_x = 8.0
-grade_y = 0.1
-[materials.clay]
-model = "von_mises"
-E = 1.0e5
-nu = 0.3
-sigma_y = 173.205080757
-integrator = "closest_point"
-[[domains]]
-cells = "all"
-element = "quad"
-material = "clay"
-integration = 3
-volumetric = "selective"
-[[constraints]]
-nodes = "left"
-ux = 0.0
-[[constraints]]
-nodes = "right"
-ux = 0.0
-[[constraints]]
-nodes = "bottom"
-ux = 0.0
-uy = 0.0
-[[loads]]
-type = "pressure"
-edges = "foot.top"
-p = )"
-    << p << "\n";
-  return s.str();
+  std::ifstream in(fs::path(STRATUM_SOURCE_DIR) / "tools" / "benchmarks" / "scenes" / "footing_solvers.toml");
+  std::stringstream file;
+  file << in.rdbuf();
+  std::string t = file.str();
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const auto at = t.find(from);
+    if (at == std::string::npos || t.find(from, at + 1) != std::string::npos)
+      throw stratum::Error("bench_solvers: '" + from + "' must occur once in footing_solvers.toml");
+    t.replace(at, from.size(), to);
+  };
+  replace("formulation = \"plane_strain\"\n", "formulation = \"plane_strain\"\n" + analysis + "\n");
+  replace("[solver]\n", "[solver]\n" + solver + "\n");
+  std::ostringstream load;
+  load << "p = " << p << "\n";
+  replace("p = 462.743\n", load.str());
+  return t;
 }
 
 struct Row {

@@ -203,8 +203,10 @@ inline std::string strip_checks(const std::string& text) {
 }
 
 /// The scene's top-level `include = [...]` entries as absolute paths (relative ones are
-/// relative to the scene's folder), so that the text runs from any folder.
-inline std::string absolute_includes(const std::string& text, const fs::path& scene_dir) {
+/// relative to the scene's folder), so that the text runs from any folder; `included` (if given)
+/// receives those paths.
+inline std::string absolute_includes(const std::string& text, const fs::path& scene_dir,
+                                     std::vector<fs::path>* included = nullptr) {
   // The top-level key: a line `include = "a.toml"` or `include = [ "a.toml", ... ]` (comments allowed).
   std::size_t at = 0;
   for (;;) {
@@ -235,7 +237,9 @@ inline std::string absolute_includes(const std::string& text, const fs::path& sc
       if (e == std::string::npos) return text; // malformed: left to the scene reader
       const std::string entry = text.substr(i + 1, e - i - 1);
       const fs::path p(entry);
-      out += '"' + (p.is_absolute() ? entry : (scene_dir / p).lexically_normal().string()) + '"';
+      const fs::path file = p.is_absolute() ? p : (scene_dir / p).lexically_normal();
+      out += '"' + file.string() + '"';
+      if (included) included->push_back(file);
       i = e + 1;
       if (!list) break;
       continue;
@@ -252,17 +256,22 @@ inline Scene input_scene(const fs::path& source_dir, const std::string& rel) {
   s.name = fs::path(rel).stem().string();
   // The scene's [[checks]] state the closed form of the scene as written: a variant (other
   // steps, nu = 0.499) is not that scene, and the matrix tests stability, not accuracy.
-  s.text = absolute_includes(strip_checks(read_text(source_dir / rel)), (source_dir / rel).parent_path());
+  std::vector<fs::path> included;
+  s.text = absolute_includes(strip_checks(read_text(source_dir / rel)), (source_dir / rel).parent_path(),
+                             &included);
   if (s.text.empty()) throw std::runtime_error("cannot read " + (source_dir / rel).string());
-  if (s.text.find("model = \"von_mises\"") != std::string::npos) {
+  // The models of the scene and of the material files it includes (inputs/materials/).
+  std::string models = s.text;
+  for (const auto& f : included) models += "\n" + read_text(f);
+  if (models.find("model = \"von_mises\"") != std::string::npos) {
     s.integ_table = s.name == "hill_cylinder" ? "[materials.steel]" : "[materials.clay]";
     s.integ_key = "integrator";
     s.integrators = plasticity_integrators();
-  } else if (s.text.find("model = \"duncan_chang\"") != std::string::npos) {
+  } else if (models.find("model = \"duncan_chang\"") != std::string::npos) {
     s.integ_table = "[materials.loess]";
     s.integ_key = "update";
     s.integrators = {"explicit", "incremental"};
-  } else if (s.text.find("model = \"cap_sandler\"") != std::string::npos) {
+  } else if (models.find("model = \"cap_sandler\"") != std::string::npos) {
     s.integ_table = "[materials.loess]";
     s.integ_key = "integration";
     s.integrators = {"closest_point", "sandler_rubin"};

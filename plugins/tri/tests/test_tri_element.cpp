@@ -248,12 +248,18 @@ TEST_CASE("tri: a cell of the wrong topology is refused with a hint", "[tri]") {
 
 namespace {
 
+/// plugins/tri/tests/scenes/<name>: this plugin's test scenes.
+std::string tri_scene(const std::string& name) {
+  return stratum::testing::source_path("plugins/tri/tests/scenes/" + name);
+}
+
+/// tri_scene("patch.toml") on the Gmsh mesh `msh` (tests/data/) in formulation `form`, with `domains`.
 std::string patch_scene(const std::string& msh, const std::string& form, const std::string& domains) {
-  return "[analysis]\nformulation = \"" + form + "\"\n[mesh]\ngenerator = \"gmsh\"\nfile = \"" +
-         std::string(STRATUM_TEST_DATA_DIR) + "/" + msh +
-         "\"\n[materials.m]\nmodel = \"linear_elastic\"\nE = 200.0\nnu = 0.3\n" + domains +
-         "[[constraints]]\nnodes = \"left\"\nux = 0.0\n[[constraints]]\nnodes = \"bottom\"\nuy = 0.0\n"
-         "[[loads]]\ntype = \"pressure\"\nedges = \"right\"\np = 10.0\n";
+  using stratum::testing::replace_once;
+  std::string t = stratum::testing::read_text(tri_scene("patch.toml"));
+  t = replace_once(t, "patch_tri6.msh", msh);
+  t = replace_once(t, "formulation = \"plane_strain\"", "formulation = \"" + form + "\"");
+  return t + domains;
 }
 
 std::string domain(const std::string& cells, const std::string& element, const std::string& extra = "") {
@@ -276,7 +282,7 @@ TEST_CASE("tri: patch test on unstructured Gmsh triangles, exact to round-off", 
   };
   for (const Case& c : cases)
     for (const std::string form : {"plane_strain", "axisymmetric"}) {
-      auto an = scene(patch_scene(c.msh, form, c.domains));
+      auto an = scene(patch_scene(c.msh, form, c.domains), tri_scene("patch.toml"));
       REQUIRE(an->run().outcome.ok());
       const Model& m = an->model();
       Vec6 s_exact = Vec6::Zero();
@@ -343,19 +349,21 @@ TEST_CASE("tri: Gmsh reader maps 3- and 6-node triangles and splits a mixed grou
 TEST_CASE("tri: an element that does not fit the cells is a located error", "[tri]") {
   const auto message = [](const std::string& toml) {
     try {
-      (void)scene(toml, "mismatch.toml");
+      (void)scene(toml, tri_scene("patch.toml"));
     } catch (const Error& e) {
       return std::string(e.what());
     }
     return std::string();
   };
-  // quad on triangles; tri6 on 3-node triangles. Both point at the element key (line 12 col 11).
+  // quad on triangles; tri6 on 3-node triangles. Both point at the element key of the [[domains]]
+  // appended to patch.toml (line 30 col 11).
+  const std::string at = tri_scene("patch.toml") + ":30:11";
   const std::string quad = message(patch_scene("patch_tri6.msh", "plane_strain", domain("patch", "quad")));
-  CHECK(quad.starts_with("mismatch.toml:12:11"));
+  CHECK(quad.starts_with(at));
   CHECK(quad.find("6-node triangle") != std::string::npos);
   CHECK(quad.find("tri6") != std::string::npos);
   const std::string t6 = message(patch_scene("patch_tri3.msh", "plane_strain", domain("patch", "tri6")));
-  CHECK(t6.starts_with("mismatch.toml:12:11"));
+  CHECK(t6.starts_with(at));
   CHECK(t6.find("the cell is a 3-node triangle, but tri6 needs a 6-node triangle") != std::string::npos);
 }
 
@@ -432,14 +440,7 @@ TEST_CASE("tri: Lamé cylinder, axisymmetric, the scene inputs/verification/lame
 
 TEST_CASE("tri: Lamé cylinder, plane strain quarter ring with curved 6-node triangles",
           "[tri][verification]") {
-  const std::string toml =
-      "[analysis]\nformulation = \"plane_strain\"\n[mesh]\ngenerator = \"gmsh\"\nfile = \"" +
-      std::string(STRATUM_SOURCE_DIR) +
-      "/inputs/verification/gmsh/lame_ring_plane_strain.msh\"\n[materials.m]\nmodel = "
-      "\"linear_elastic\"\nE = 1000.0\nnu = 0.3\n[[domains]]\ncells = \"ring\"\nelement = \"tri6\"\n"
-      "material = \"m\"\n[[constraints]]\nnodes = \"x_axis\"\nuy = 0.0\n[[constraints]]\nnodes = "
-      "\"y_axis\"\nux = 0.0\n[[loads]]\ntype = \"pressure\"\nedges = \"inner\"\np = 1.0\n";
-  auto an = scene(toml);
+  auto an = stratum::testing::scene_file(tri_scene("lame_ring_plane_strain.toml"));
   REQUIRE(an->run().outcome.ok());
   const Model& m = an->model();
   const LameExact ex;
@@ -502,7 +503,7 @@ TEST_CASE("tri: a stage load on the top of triangle cells is the uniform patch s
   toml.replace(toml.find(edge_load), edge_load.size(),
                "[[stages]]\nname = \"top\"\nsteps = 1\n[[stages.actions]]\ntype = \"load\"\ncells = "
                "\"patch\"\nforce = 10.0\n");
-  auto an = scene(toml);
+  auto an = scene(toml, tri_scene("patch.toml"));
   REQUIRE(an->run().outcome.ok());
   const Model& m = an->model();
   double u_err = 0;
@@ -571,20 +572,11 @@ TEST_CASE("tri: Hill thick cylinder with Tresca (phi = 0) on curved 6-node trian
   };
   for (double frac : {0.5, 0.75, 0.9}) {
     const double P = frac * p_lim;
-    const std::string toml = "[analysis]\nformulation = \"plane_strain\"\nsteps = "
-                             "10\n[convergence]\nforce_rtol = 1e-9\n[mesh]\ngenerator = "
-                             "\"gmsh\"\nfile = \"" +
-                             std::string(STRATUM_SOURCE_DIR) +
-                             "/inputs/verification/gmsh/lame_ring_plane_strain.msh\"\n[materials.m]\nmodel = "
-                             "\"mohr_coulomb\"\nE = " +
-                             std::to_string(E) + "\nnu = 0.3\nc = " + std::to_string(c) +
-                             "\nphi = 0.0\n[[domains]]\ncells = \"ring\"\nelement = \"tri6\"\nmaterial = "
-                             "\"m\"\n[[constraints]]\nnodes = "
-                             "\"x_axis\"\nuy = 0.0\n[[constraints]]\nnodes = \"y_axis\"\nux = "
-                             "0.0\n[[loads]]\ntype = \"pressure\"\nedges "
-                             "= \"inner\"\np = " +
-                             std::to_string(P) + "\n";
-    auto an = scene(toml);
+    // tri_scene("hill_ring_tresca.toml") holds 0.5 P_lim; the pressure as std::to_string writes it.
+    const std::string text =
+        stratum::testing::replace_once(stratum::testing::read_text(tri_scene("hill_ring_tresca.toml")),
+                                       "p = 69.314718\n", "p = " + std::to_string(P) + "\n");
+    auto an = scene(text, tri_scene("hill_ring_tresca.toml"));
     const auto s = an->run();
     INFO(s.outcome.message);
     REQUIRE(s.outcome.ok());

@@ -66,40 +66,10 @@ std::string c_mises(double E = 10000.0, double nu = 0.25, double sy = 50.0, doub
 
 // ---------------------------------------------------------------- material point
 
-/// Every path kind of `stratum point`, in the plane (no yz, zx shear anywhere).
-const std::string plane_paths = R"(
-[initial]
-p = 100.0
-[[paths]]
-type = "triaxial_drained"
-axial_strain = -0.01
-steps = 10
-[[paths]]
-type = "triaxial_undrained"
-axial_strain = 0.012
-steps = 10
-[[paths]]
-type = "oedometer"
-axial_strain = -0.005
-steps = 5
-[[paths]]
-type = "isotropic"
-pressure = -50.0
-steps = 5
-[[paths]]
-type = "isotropic"
-volumetric_strain = -0.002
-steps = 4
-[[paths]]
-type = "simple_shear"
-shear_strain = 0.02
-steps = 8
-[[paths]]
-type = "mixed"
-control = ["stress", "strain", "stress", "strain", "strain", "strain"]
-increment = [0.0, -0.004, 0.0, 0.001, 0.0, 0.0]
-steps = 4
-)";
+/// Every path kind of `stratum point`, in the plane (no yz, zx shear anywhere):
+/// plugins/umat/tests/scenes/plane_paths.toml.
+const std::string plane_paths =
+    "\n" + testing::read_text(testing::source_path("plugins/umat/tests/scenes/plane_paths.toml"));
 
 /// A mixed path with out-of-plane shears (NTENS = 6 only).
 const std::string shear_3d_path = R"(
