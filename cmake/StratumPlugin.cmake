@@ -3,7 +3,8 @@
 # Builds a plugin as a shared module and writes beside it a manifest
 # "<target>.plugin" listing the factories it provides, one "<kind> <name>" per
 # line. Stratum reads manifests to decide which libraries a scene needs and opens
-# only those. <kind> is one of material, element, contact_law, solver, stage_action, mesh_generator.
+# only those (`stratum fit` likewise opens only the library of its target). <kind> is one of
+# material, element, contact_law, solver, stage_action, mesh_generator, calibration.
 function(stratum_add_plugin target)
   cmake_parse_arguments(ARG "NO_INSTALL" "OUTPUT_DIRECTORY" "SOURCES;PROVIDES" ${ARGN})
   if(NOT ARG_PROVIDES)

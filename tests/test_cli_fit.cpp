@@ -203,8 +203,13 @@ TEST_CASE("cli fit: bad input and curves it cannot fit fail in one line", "[fit]
   expect_one_line_error(stratum("fit duncan_chang inputs/calibration/direct_shear_goodman.csv"),
                         "inputs/calibration/direct_shear_goodman.csv:3:1 ",
                         "unknown column 'sigma_n_kPa' in the header; allowed: required sigma3_kPa");
-  expect_one_line_error(stratum("fit lade inputs/calibration/triaxial_loess_low.csv"),
-                        "fit: ", "unknown target 'lade'; allowed: duncan_chang, contact");
+  // the targets are those the plugins declare (their manifests), with the nearest name
+  expect_one_line_error(stratum("fit lade inputs/calibration/triaxial_loess_low.csv"), "fit: ",
+                        "unknown target 'lade'; allowed: contact, duncan_chang, goodman_nonlinear, "
+                        "hyperbolic_interface");
+  expect_one_line_error(stratum("fit duncan_chnag inputs/calibration/triaxial_loess_low.csv"), "fit: ",
+                        "unknown target 'duncan_chnag'; allowed: contact, duncan_chang, goodman_nonlinear, "
+                        "hyperbolic_interface; did you mean 'duncan_chang'?");
   expect_one_line_error(stratum("fit duncan_chang --form E_x inputs/calibration/triaxial_loess_low.csv"),
                         "fit: ", "--form 'E_x'; allowed: E_nu");
   expect_one_line_error(

@@ -163,23 +163,24 @@ constexpr const char* describe_help =
     "\n"
     "exit status: 0 described, 1 unknown section (with the known ones), 3 internal error\n";
 
-/// The --help text of a subcommand; nullptr for an unknown one.
-const char* help_of(const std::string& cmd) {
+/// The --help text of a subcommand; empty for an unknown one.
+std::string help_of(const std::string& cmd) {
   if (cmd == "run") return run_help;
   if (cmd == "check") return check_help;
   if (cmd == "point") return point_help;
   if (cmd == "plugins") return plugins_help;
   if (cmd == "describe") return describe_help;
-  if (cmd == "fit") return stratum::cli::fit_help();
+  if (cmd == "fit") return stratum::cli::fit_help(); // lists the targets the plugins declare
   if (cmd == "sweep") return stratum::cli::sweep_help();
-  return nullptr;
+  return {};
 }
 
 constexpr const char* commands[] = {"run",     "check",    "point", "fit",      "sweep",
                                     "plugins", "describe", "help",  "--version"};
 
-constexpr PluginKind kinds[] = {PluginKind::element, PluginKind::material,     PluginKind::contact_law,
-                                PluginKind::solver,  PluginKind::stage_action, PluginKind::mesh_generator};
+constexpr PluginKind kinds[] = {PluginKind::element,    PluginKind::material,     PluginKind::contact_law,
+                                PluginKind::solver,     PluginKind::stage_action, PluginKind::mesh_generator,
+                                PluginKind::calibration};
 
 void describe(const Registry& reg, PluginKind kind, const std::string& name, bool full,
               const Units& units = {}) {
@@ -559,12 +560,12 @@ int main(int argc, char** argv) {
     // `stratum COMMAND --help` (anywhere among its arguments) and `stratum help COMMAND`.
     const bool help = std::find(rest.begin(), rest.end(), "--help") != rest.end() ||
                       std::find(rest.begin(), rest.end(), "-h") != rest.end();
-    if (help && help_of(cmd)) {
+    if (help && !help_of(cmd).empty()) {
       std::cout << help_of(cmd);
       return 0;
     }
     if ((cmd == "help" || cmd == "--help" || cmd == "-h") && !rest.empty()) {
-      if (!help_of(rest[0]))
+      if (help_of(rest[0]).empty())
         throw Error("help: unknown command '" + rest[0] +
                     "'; allowed: run, check, point, fit, sweep, plugins, describe" +
                     did_you_mean(rest[0], commands));

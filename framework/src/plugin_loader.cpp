@@ -51,11 +51,14 @@ PluginCatalog::PluginCatalog(std::vector<std::string> directories) : dirs_(std::
         std::string kind_s, name;
         if (!(ls >> kind_s)) continue;
         PluginKind kind{};
-        if (!(ls >> name) || !parse_kind(kind_s, kind))
+        if (!(ls >> name) || !parse_kind(kind_s, kind)) {
+          std::string kinds;
+          for (PluginKind k : all_plugin_kinds)
+            kinds += (kinds.empty() ? "" : ", ") + std::string(to_string(k));
           throw Error(SourceLocation{m.string(), lineno, 1},
-                      "bad plugin manifest line '" + line +
-                          "'; expected '<kind> <name>' with kind material, element, contact_law, solver, "
-                          "stage_action or mesh_generator");
+                      "bad plugin manifest line '" + line + "'; expected '<kind> <name>' with kind one of " +
+                          kinds);
+        }
         auto key = std::make_pair(kind, name);
         if (auto it = here.find(key); it != here.end()) {
           conflicts_.push_back(std::string("duplicate ") + kind_s + " '" + name + "': provided by " +

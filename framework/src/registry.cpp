@@ -18,6 +18,8 @@ const char* to_string(PluginKind k) {
     return "stage_action";
   case PluginKind::mesh_generator:
     return "mesh_generator";
+  case PluginKind::calibration:
+    return "calibration";
   }
   return "?";
 }
@@ -69,6 +71,10 @@ template void Registry::add_to(std::map<std::string, Factory<MeshGenerator>>&, P
                                Factory<MeshGenerator>);
 template const Factory<MeshGenerator>& Registry::find(const std::map<std::string, Factory<MeshGenerator>>&,
                                                       PluginKind, const std::string&) const;
+template void Registry::add_to(std::map<std::string, Factory<Calibration>>&, PluginKind,
+                               Factory<Calibration>);
+template const Factory<Calibration>& Registry::find(const std::map<std::string, Factory<Calibration>>&,
+                                                    PluginKind, const std::string&) const;
 template const Factory<Material>& Registry::find(const std::map<std::string, Factory<Material>>&, PluginKind,
                                                  const std::string&) const;
 template const Factory<Element>& Registry::find(const std::map<std::string, Factory<Element>>&, PluginKind,
@@ -100,6 +106,8 @@ bool Registry::has(PluginKind kind, const std::string& name) const {
     return stage_actions_.count(name) != 0;
   case PluginKind::mesh_generator:
     return mesh_generators_.count(name) != 0;
+  case PluginKind::calibration:
+    return calibrations_.count(name) != 0;
   }
   return false;
 }
@@ -118,6 +126,8 @@ std::vector<std::string> Registry::names(PluginKind kind) const {
     return keys(stage_actions_);
   case PluginKind::mesh_generator:
     return keys(mesh_generators_);
+  case PluginKind::calibration:
+    return keys(calibrations_);
   }
   return {};
 }
@@ -142,6 +152,8 @@ const Schema& Registry::schema(PluginKind kind, const std::string& name, std::st
     return fill(stage_action(name));
   case PluginKind::mesh_generator:
     return fill(mesh_generator(name));
+  case PluginKind::calibration:
+    return fill(calibration(name));
   }
   throw Error("unknown plugin kind");
 }

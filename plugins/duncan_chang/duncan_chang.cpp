@@ -1,5 +1,7 @@
-// Plugin entry point of the "duncan_chang" material: the factory with its schema.
+// Plugin entry point of the "duncan_chang" material: the factory with its schema, and the
+// calibration target of the same name (`stratum fit duncan_chang`, duncan_chang_calibration.cpp).
 // The model lives in duncan_chang.hpp, the schema in duncan_chang_schema.hpp (shared with the tests).
+#include "duncan_chang_calibration.hpp"
 #include "duncan_chang_schema.hpp"
 
 #include "stratum/plugin.hpp"
@@ -18,4 +20,5 @@ STRATUM_PLUGIN(registry) {
     return std::make_unique<dc::DuncanChang>(dc::read(p, dc::Family::duncan_chang));
   };
   registry.add(std::move(f));
+  dc::register_calibration(registry);
 }

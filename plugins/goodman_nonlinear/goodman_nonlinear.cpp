@@ -1,5 +1,7 @@
-// Plugin entry point of the "goodman_nonlinear" contact law (goodman_nonlinear.hpp).
+// Plugin entry point of the "goodman_nonlinear" contact law and its calibration target
+// (goodman_nonlinear.hpp).
 #include "goodman_nonlinear.hpp"
+#include "goodman_nonlinear_calibration.hpp"
 
 #include "stratum/plugin.hpp"
 
@@ -11,4 +13,5 @@ STRATUM_PLUGIN(registry) {
   f.schema = stratum::goodman::schema();
   f.create = stratum::goodman::create;
   registry.add(std::move(f));
+  stratum::goodman::register_calibration(registry);
 }

@@ -1,5 +1,7 @@
-// Plugin entry point of the "hyperbolic_interface" contact law (hyperbolic_interface.hpp).
+// Plugin entry point of the "hyperbolic_interface" contact law and its calibration target
+// (hyperbolic_interface.hpp).
 #include "hyperbolic_interface.hpp"
+#include "hyperbolic_interface_calibration.hpp"
 
 #include "stratum/plugin.hpp"
 
@@ -10,4 +12,5 @@ STRATUM_PLUGIN(registry) {
   f.schema = stratum::hyperbolic_interface::schema();
   f.create = stratum::hyperbolic_interface::create;
   registry.add(std::move(f));
+  stratum::hyperbolic_interface::register_calibration(registry);
 }

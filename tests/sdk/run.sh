@@ -20,7 +20,9 @@
 #    against the closed form); then runs the projects' own tests (ctest), i.e.
 #    the guide's test program test_kg_elastic;
 # 6. the stage action and mesh generator plugins of the guide (lame_kg_staged.toml, run in
-#    step 5): manifests, descriptions, and their own schemas' located errors.
+#    step 5): manifests, descriptions, and their own schemas' located errors;
+# 7. the guide's calibration target: `stratum fit example_kg_elastic kg_triaxial.csv` gives back
+#    the K and G the curves were made from; a misspelt target gets the nearest name.
 # Exits non-zero with a message naming the failed check.
 set -euo pipefail
 
@@ -242,5 +244,24 @@ if err=$(STRATUM_PLUGIN_PATH=$plugin_path "$stratum" check "$work/bad_mesh.toml"
 fi
 echo "   $err"
 grep -q "bad_mesh.toml:[0-9]*:[0-9]*.*height" <<<"$err" || fail "the error does not name bad_mesh.toml:line:col and height"
+
+# --- 7. a calibration target from an out-of-tree plugin: stratum fit ------------------
+step "calibration target: stratum fit example_kg_elastic kg_triaxial.csv"
+grep -qx "calibration example_kg_elastic" "$plugin_dir/example_kg_fit.plugin" ||
+  fail "the manifest example_kg_fit.plugin does not list 'calibration example_kg_elastic'"
+curves=$example_src/kg_triaxial.csv
+[[ -f $curves ]] || fail "the guide writes no kg_triaxial.csv"
+out=$("$stratum" fit example_kg_elastic "$curves") || fail "stratum fit example_kg_elastic failed"
+sed 's/^/   | /' <<<"$out"
+# the solid of the curves: K = 1000 kPa, G = 600 kPa (E = 1500 kPa, nu = 0.25)
+grep -qx "K = 1000.0" <<<"$out" || fail "stratum fit example_kg_elastic did not give K = 1000.0"
+grep -qx "G = 600.0" <<<"$out" || fail "stratum fit example_kg_elastic did not give G = 600.0"
+# the installed targets are listed beside it, a misspelt one gets the nearest name
+if err=$("$stratum" fit example_kg_elastc "$curves" 2>&1); then
+  fail "stratum fit accepted the unknown target example_kg_elastc"
+fi
+echo "   $err"
+grep -q "unknown target 'example_kg_elastc'; allowed: .*duncan_chang.*example_kg_elastic.*did you mean 'example_kg_elastic'" <<<"$err" ||
+  fail "the unknown-target error does not list the targets and the nearest name: $err"
 
 echo "sdk test passed"

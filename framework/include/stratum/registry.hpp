@@ -5,6 +5,7 @@
 // duplicate name can name both libraries.
 #pragma once
 
+#include "stratum/calibration.hpp"
 #include "stratum/contact_law.hpp"
 #include "stratum/element.hpp"
 #include "stratum/material.hpp"
@@ -22,12 +23,12 @@
 
 namespace stratum {
 
-enum class PluginKind { material, element, contact_law, solver, stage_action, mesh_generator };
+enum class PluginKind { material, element, contact_law, solver, stage_action, mesh_generator, calibration };
 [[nodiscard]] const char* to_string(PluginKind k);
 /// Every kind, in the order of the enum (manifest lines and `stratum plugins` use these names).
-inline constexpr PluginKind all_plugin_kinds[] = {PluginKind::material,     PluginKind::element,
-                                                  PluginKind::contact_law,  PluginKind::solver,
-                                                  PluginKind::stage_action, PluginKind::mesh_generator};
+inline constexpr PluginKind all_plugin_kinds[] = {
+    PluginKind::material,     PluginKind::element,        PluginKind::contact_law, PluginKind::solver,
+    PluginKind::stage_action, PluginKind::mesh_generator, PluginKind::calibration};
 /// The kind whose name is `s` ("material", "stage_action", ...); false when there is none.
 bool plugin_kind_from_string(const std::string& s, PluginKind& kind);
 
@@ -47,6 +48,7 @@ public:
   void add(Factory<Solver> f) { add_to(solvers_, PluginKind::solver, std::move(f)); }
   void add(Factory<StageAction> f) { add_to(stage_actions_, PluginKind::stage_action, std::move(f)); }
   void add(Factory<MeshGenerator> f) { add_to(mesh_generators_, PluginKind::mesh_generator, std::move(f)); }
+  void add(Factory<Calibration> f) { add_to(calibrations_, PluginKind::calibration, std::move(f)); }
 
   /// Lookups throw Error listing the known names of that kind.
   [[nodiscard]] const Factory<Material>& material(const std::string& name) const {
@@ -67,6 +69,10 @@ public:
   }
   [[nodiscard]] const Factory<MeshGenerator>& mesh_generator(const std::string& name) const {
     return find(mesh_generators_, PluginKind::mesh_generator, name);
+  }
+  /// A calibration target (`stratum fit NAME`).
+  [[nodiscard]] const Factory<Calibration>& calibration(const std::string& name) const {
+    return find(calibrations_, PluginKind::calibration, name);
   }
   /// The same lookups by the plugin's interface type: factory<Material>(name), ...
   template <class T> [[nodiscard]] const Factory<T>& factory(const std::string& name) const;
@@ -95,6 +101,7 @@ private:
   std::map<std::string, Factory<Solver>> solvers_;
   std::map<std::string, Factory<StageAction>> stage_actions_;
   std::map<std::string, Factory<MeshGenerator>> mesh_generators_;
+  std::map<std::string, Factory<Calibration>> calibrations_;
   std::string current_library_ = "(built in)";
 };
 
@@ -110,6 +117,8 @@ template <class T> constexpr PluginKind plugin_kind_of() {
     return PluginKind::solver;
   else if constexpr (std::is_same_v<T, StageAction>)
     return PluginKind::stage_action;
+  else if constexpr (std::is_same_v<T, Calibration>)
+    return PluginKind::calibration;
   else {
     static_assert(std::is_same_v<T, MeshGenerator>, "not a plugin interface");
     return PluginKind::mesh_generator;
@@ -127,6 +136,8 @@ template <class T> const Factory<T>& Registry::factory(const std::string& name) 
     return solver(name);
   else if constexpr (std::is_same_v<T, StageAction>)
     return stage_action(name);
+  else if constexpr (std::is_same_v<T, Calibration>)
+    return calibration(name);
   else
     return mesh_generator(name);
 }

@@ -1,9 +1,9 @@
 // Calibration: reading the laboratory curves (triaxial and direct-shear CSV files), every
-// error located by file, line and column (framework/src/calibration/calibration.hpp).
-#include "calibration/calibration.hpp"
+// error located by file, line and column (stratum/calibration.hpp).
+#include "stratum/calibration.hpp"
 
-#include "calibration_detail.hpp"
 #include "stratum/error.hpp"
+#include "stratum/parameters.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -12,8 +12,6 @@
 #include <sstream>
 
 namespace stratum::calibration {
-
-using detail::fmt;
 
 namespace {
 
@@ -144,24 +142,25 @@ std::vector<TriaxialCurve> read_triaxial_csv(const std::string& path) {
     const double s3 = row.value[0], ea = row.value[1], q = row.value[2];
     auto at = [&](int k) { return SourceLocation{path, row.line, row.col[k]}; };
     if (!(s3 > 0))
-      throw Error(at(0), "sigma3_kPa = " + fmt(s3) + "; allowed: > 0 (compression positive, kPa)");
+      throw Error(at(0), "sigma3_kPa = " + number(s3) + "; allowed: > 0 (compression positive, kPa)");
     if (ea < 0 || ea >= 1)
-      throw Error(at(1), "eps_axial = " + fmt(ea) +
+      throw Error(at(1), "eps_axial = " + number(ea) +
                              "; allowed: 0 <= eps_axial < 1 (a fraction, compression positive: 0.05 = 5 %)");
-    if (q < 0) throw Error(at(2), "q_kPa = " + fmt(q) + "; allowed: >= 0 (sigma_1 - sigma_3 in compression)");
+    if (q < 0)
+      throw Error(at(2), "q_kPa = " + number(q) + "; allowed: >= 0 (sigma_1 - sigma_3 in compression)");
     for (int k : {3, 4})
       if (t.present[k] && std::abs(row.value[k]) >= 1)
-        throw Error(at(k), cols[k].name + " = " + fmt(row.value[k]) + "; allowed: |" + cols[k].name +
+        throw Error(at(k), cols[k].name + " = " + number(row.value[k]) + "; allowed: |" + cols[k].name +
                                "| < 1 (a fraction, compression positive)");
     if (out.empty() || out.back().sigma3 != s3) {
       out.emplace_back();
       out.back().sigma3 = s3;
       out.back().file = path;
     } else if (!(ea > out.back().eps_a.back())) {
-      throw Error(at(1),
-                  "eps_axial = " + fmt(ea) + " does not increase (previous point " +
-                      fmt(out.back().eps_a.back()) + " on line " + std::to_string(out.back().lines.back()) +
-                      "); allowed: each curve (a block of rows with one sigma3_kPa) in increasing eps_axial");
+      throw Error(
+          at(1), "eps_axial = " + number(ea) + " does not increase (previous point " +
+                     number(out.back().eps_a.back()) + " on line " + std::to_string(out.back().lines.back()) +
+                     "); allowed: each curve (a block of rows with one sigma3_kPa) in increasing eps_axial");
     }
     TriaxialCurve& c = out.back();
     c.eps_a.push_back(ea);
@@ -181,18 +180,18 @@ std::vector<ShearCurve> read_direct_shear_csv(const std::string& path) {
     const double sn = row.value[0], du = row.value[1], tau = row.value[2];
     auto at = [&](int k) { return SourceLocation{path, row.line, row.col[k]}; };
     if (!(sn > 0))
-      throw Error(at(0), "sigma_n_kPa = " + fmt(sn) + "; allowed: > 0 (compression positive, kPa)");
+      throw Error(at(0), "sigma_n_kPa = " + number(sn) + "; allowed: > 0 (compression positive, kPa)");
     if (du < 0 || du >= 1)
-      throw Error(at(1), "du_m = " + fmt(du) + "; allowed: 0 <= du_m < 1 (shear displacement in metres)");
-    if (tau < 0) throw Error(at(2), "tau_kPa = " + fmt(tau) + "; allowed: >= 0 (shear in one direction)");
+      throw Error(at(1), "du_m = " + number(du) + "; allowed: 0 <= du_m < 1 (shear displacement in metres)");
+    if (tau < 0) throw Error(at(2), "tau_kPa = " + number(tau) + "; allowed: >= 0 (shear in one direction)");
     if (out.empty() || out.back().sigma_n != sn) {
       out.emplace_back();
       out.back().sigma_n = sn;
       out.back().file = path;
     } else if (!(du > out.back().du.back())) {
       throw Error(at(1),
-                  "du_m = " + fmt(du) + " does not increase (previous point " + fmt(out.back().du.back()) +
-                      " on line " + std::to_string(out.back().lines.back()) +
+                  "du_m = " + number(du) + " does not increase (previous point " +
+                      number(out.back().du.back()) + " on line " + std::to_string(out.back().lines.back()) +
                       "); allowed: each curve (a block of rows with one sigma_n_kPa) in increasing du_m");
     }
     ShearCurve& c = out.back();

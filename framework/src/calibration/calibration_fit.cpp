@@ -1,7 +1,7 @@
-// Calibration: the numerics every fit shares: a least-squares line, Kondner's transformed
-// linear start, a small Levenberg-Marquardt solver and the hyperbolic fit of curves at several
-// confining levels (calibration_detail.hpp).
-#include "calibration_detail.hpp"
+// The calibration toolkit (stratum/calibration_toolkit.hpp): the numerics every fit shares: a
+// least-squares line, Kondner's transformed linear start, a small Levenberg-Marquardt solver and
+// the hyperbolic fit of curves at several confining levels.
+#include "stratum/calibration_toolkit.hpp"
 
 #include "stratum/error.hpp"
 
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <set>
 
-namespace stratum::calibration::detail {
+namespace stratum::calibration {
 
 // ================================================================ small numerics
 
@@ -134,9 +134,9 @@ std::size_t peak_index(const std::vector<double>& y, const std::vector<int>& lin
   std::size_t top = 0;
   for (std::size_t j = 1; j < k; ++j) {
     if (y[j] < y[top] - 0.05 * y[k])
-      throw Error({file, lines[j], 0}, name + " = " + fmt(y[j]) + " falls below the earlier " + fmt(y[top]) +
-                                           " (line " + std::to_string(lines[top]) +
-                                           ") by more than 5 % of the peak " + fmt(y[k]) + " of line " +
+      throw Error({file, lines[j], 0}, name + " = " + number(y[j]) + " falls below the earlier " +
+                                           number(y[top]) + " (line " + std::to_string(lines[top]) +
+                                           ") by more than 5 % of the peak " + number(y[k]) + " of line " +
                                            std::to_string(lines[k]) + " (" + level + "); allowed: " + name +
                                            " rising to a single peak (dips up to 5 % of it), then optionally "
                                            "softening");
@@ -162,17 +162,31 @@ std::size_t distinct_levels(const std::vector<double>& s) {
   return std::set<double>(s.begin(), s.end()).size();
 }
 
+std::vector<std::size_t> direct_shear_peaks(const std::vector<ShearCurve>& curves, const std::string& source,
+                                            const std::string& what) {
+  if (curves.empty()) throw Error(source + ": no direct-shear curves");
+  std::vector<double> levels;
+  for (const auto& c : curves) levels.push_back(c.sigma_n);
+  if (distinct_levels(levels) < 2)
+    throw Error(source + ": all curves are at sigma_n = " + number(levels[0]) + " kPa; " + what +
+                " need curves at two or more normal stresses");
+  std::vector<std::size_t> peaks;
+  for (const auto& c : curves)
+    peaks.push_back(peak_index(c.tau, c.lines, c.file, "tau_kPa", level_text("sigma_n", c.sigma_n)));
+  return peaks;
+}
+
 // ================================================================ hyperbolic fit (shared)
 
 namespace {
 
-double strength(const HypLaw& law, double c, double phi, double s) {
+double strength(const HyperbolicLaw& law, double c, double phi, double s) {
   if (law.triaxial) return 2 * (c * std::cos(phi) + s * std::sin(phi)) / (1 - std::sin(phi));
   return c + s * std::tan(phi);
 }
 
 /// The same for the strengths: y_f = A + B s -> (c, phi). False if B <= 0.
-bool strength_params(const HypLaw& law, double A, double B, double& c, double& phi) {
+bool strength_params(const HyperbolicLaw& law, double A, double B, double& c, double& phi) {
   if (!(B > 0)) return false;
   if (law.triaxial) {
     const double sp = B / (2 + B);
@@ -187,9 +201,9 @@ bool strength_params(const HypLaw& law, double A, double B, double& c, double& p
 
 } // namespace
 
-HypResult fit_hyperbolic(const HypLaw& law, const std::vector<HypCurve>& curves, const std::string& source,
-                         std::vector<CurveResidual>& residuals) {
-  HypResult res;
+HyperbolicFit fit_hyperbolic(const HyperbolicLaw& law, const std::vector<HyperbolicCurve>& curves,
+                             const std::string& source, std::vector<CurveResidual>& residuals) {
+  HyperbolicFit res;
   // --- start: Kondner per curve, then straight lines across curves
   std::vector<double> logs, logE, ss, yf, ratio;
   for (const auto& c : curves) {
@@ -207,7 +221,7 @@ HypResult fit_hyperbolic(const HypLaw& law, const std::vector<HypCurve>& curves,
   for (double r : ratio) res.R_f0 += r / static_cast<double>(ratio.size());
   if (!strength_params(law, A, B, res.c0, res.phi0))
     throw Error(source + ": the peak " + law.y_name + " does not grow with " + law.s_name + " (slope " +
-                fmt(B) + " of the peaks against " + law.s_name + "), so " + law.phi_name +
+                number(B) + " of the peaks against " + law.s_name + "), so " + law.phi_name +
                 " would be <= 0; allowed: curves whose strength increases with " + law.s_name);
 
   // --- refinement on all points and the strengths at once
@@ -241,22 +255,22 @@ HypResult fit_hyperbolic(const HypLaw& law, const std::vector<HypCurve>& curves,
   if (!lm.converged)
     throw Error(source + ": the nonlinear refinement of " + law.K_name + ", n, R_f, " + law.c_name + ", " +
                 law.phi_name + " did not converge (" + std::to_string(lm.iterations) +
-                " Levenberg-Marquardt iterations from the Kondner start " + law.K_name + " = " + fmt(res.K0) +
-                ", n = " + fmt(res.n0) + ", R_f = " + fmt(res.R_f0) +
+                " Levenberg-Marquardt iterations from the Kondner start " + law.K_name + " = " +
+                number(res.K0) + ", n = " + number(res.n0) + ", R_f = " + number(res.R_f0) +
                 "); the curves are not hyperbolic enough");
   res.K = lm.p[0], res.n = lm.p[1], res.R_f = lm.p[2], res.c = lm.p[3], res.phi = lm.p[4];
 
   // --- physical limits
   if (res.R_f > 1 + 1e-9)
     throw Error(
-        source + ": R_f = " + fmt(res.R_f) + " > 1: the peaks of " + law.y_name +
+        source + ": R_f = " + number(res.R_f) + " > 1: the peaks of " + law.y_name +
         " lie above the hyperbolas' asymptotes; allowed: 0 < R_f <= 1 (the curves are not hyperbolic)");
   if (res.n < 0)
-    throw Error(source + ": n = " + fmt(res.n) + " < 0: the initial stiffness falls as " + law.s_name +
+    throw Error(source + ": n = " + number(res.n) + " < 0: the initial stiffness falls as " + law.s_name +
                 " grows; allowed: n >= 0 (if the soil changes between stress levels, fit each range apart: "
                 "stratum fit --range MIN:MAX)");
   if (res.c < -1e-9 * scale_y)
-    throw Error(source + ": " + law.c_name + " = " + fmt(res.c) +
+    throw Error(source + ": " + law.c_name + " = " + number(res.c) +
                 " kPa < 0 from the peak strengths; allowed: " + law.c_name +
                 " >= 0 (check the peaks, or fit a narrower " + law.s_name + " range)");
   res.c = std::max(res.c, 0.0);
@@ -274,10 +288,11 @@ HypResult fit_hyperbolic(const HypLaw& law, const std::vector<HypCurve>& curves,
   return res;
 }
 
-/// Builds a HypCurve from the points up to the peak; checks the Kondner transform.
-HypCurve hyp_curve(const HypLaw& law, double s, const std::vector<double>& x, const std::vector<double>& y,
-                   std::size_t peak, const std::string& file, int first_line, const std::string& level) {
-  HypCurve c;
+/// Builds a HyperbolicCurve from the points up to the peak; checks the Kondner transform.
+HyperbolicCurve hyperbolic_curve(const HyperbolicLaw& law, double s, const std::vector<double>& x,
+                                 const std::vector<double>& y, std::size_t peak, const std::string& file,
+                                 int first_line, const std::string& level) {
+  HyperbolicCurve c;
   c.s = s;
   c.file = file;
   c.first_line = first_line;
@@ -294,17 +309,17 @@ HypCurve hyp_curve(const HypLaw& law, double s, const std::vector<double>& x, co
                 law.y_name + " > 0 up to the peak; allowed: at least 3");
   if (!(k.a > 0) || !(k.b > 0))
     throw Error(where + ": not hyperbolic: Kondner's transform " + law.x_name + "/" + law.y_name +
-                " = a + b " + law.x_name + " gives a = " + fmt(k.a) + ", b = " + fmt(k.b) +
+                " = a + b " + law.x_name + " gives a = " + number(k.a) + ", b = " + number(k.b) +
                 "; allowed: curves that flatten toward an asymptote (a > 0, b > 0)");
   c.E = 1 / k.a;
   c.y_ult = 1 / k.b;
   return c;
 }
 
-std::string level_text(const std::string& name, double v) { return name + " = " + fmt(v) + " kPa"; }
+std::string level_text(const std::string& name, double v) { return name + " = " + number(v) + " kPa"; }
 
 std::string count(std::size_t n, const std::string& what) {
   return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
 }
 
-} // namespace stratum::calibration::detail
+} // namespace stratum::calibration

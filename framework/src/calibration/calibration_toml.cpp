@@ -1,17 +1,16 @@
 // Calibration: the fitted parameters as a TOML fragment with the residuals as comments
-// (framework/src/calibration/calibration.hpp).
-#include "calibration/calibration.hpp"
+// (stratum/calibration.hpp, write_fitted_toml), and the accessors of FittedParameters.
+#include "stratum/calibration.hpp"
 
-#include "calibration_detail.hpp"
 #include "stratum/error.hpp"
+#include "stratum/parameters.hpp"
 
+#include <cstdio>
 #include <sstream>
 
-namespace stratum::calibration {
+namespace stratum {
 
-using detail::fmt;
-
-// ================================================================ output
+const char* to_string(LabTest t) { return t == LabTest::triaxial ? "triaxial" : "direct_shear"; }
 
 namespace {
 
@@ -24,16 +23,17 @@ std::string tnum(double v) {
   return s;
 }
 
-std::string comments(const std::vector<CurveResidual>& rs, const std::vector<std::string>& notes) {
+std::string comments(const std::vector<calibration::CurveResidual>& rs,
+                     const std::vector<std::string>& notes) {
   std::ostringstream o;
   o << "# residuals (model - data) per curve:\n";
   for (const auto& r : rs) {
     const std::string u = r.unit.empty() ? "" : " " + r.unit;
-    o << "#   " << r.what << " at " << fmt(r.level) << " kPa: ";
+    o << "#   " << r.what << " at " << number(r.level) << " kPa: ";
     if (r.points == 1)
-      o << "|difference| " << fmt(r.max) << u;
+      o << "|difference| " << number(r.max) << u;
     else
-      o << r.points << " points, RMS " << fmt(r.rms) << u << ", max " << fmt(r.max) << u;
+      o << r.points << " points, RMS " << number(r.rms) << u << ", max " << number(r.max) << u;
     o << "\n";
   }
   for (const auto& n : notes) { // wrapped at about 100 characters
@@ -51,69 +51,49 @@ std::string comments(const std::vector<CurveResidual>& rs, const std::vector<std
   return o.str();
 }
 
+const FittedValue& find(const std::vector<FittedValue>& values, const std::string& name, const char* what) {
+  for (const auto& v : values)
+    if (v.name == name) return v;
+  std::string known;
+  for (const auto& v : values) known += (known.empty() ? "" : ", ") + v.name;
+  throw Error(std::string("no fitted ") + what + " '" + name + "'; the fit gives " +
+              (known.empty() ? "(none)" : known));
+}
+
 } // namespace
 
-std::string to_toml(const DuncanChangFit& f, const std::string& header) {
+double FittedParameters::value(const std::string& name) const {
+  return find(values, name, "parameter").value;
+}
+
+const std::string& FittedParameters::text(const std::string& name) const {
+  return find(values, name, "parameter").text;
+}
+
+double FittedParameters::start_value(const std::string& name) const {
+  return find(start, name, "start value").value;
+}
+
+std::string write_fitted_toml(const FittedParameters& fit, const std::string& header) {
   std::ostringstream o;
-  o << header << "\n"
-    << "# Duncan-Chang parameters (docs/calibration.md): paste into a [materials.NAME] table with\n"
-    << "# model = \"duncan_chang\". Compression positive; phi in degrees, c in kPa.\n"
-    << "# Kondner start: K = " << fmt(f.K0) << ", n = " << fmt(f.n0) << ", R_f = " << fmt(f.R_f0)
-    << ", phi = " << fmt(f.phi0) << ", c = " << fmt(f.c0) << "; Levenberg-Marquardt: " << f.iterations
-    << " iterations\n"
-    << comments(f.residuals, f.notes);
-  o << "form = \"" << (f.form == DuncanChangForm::E_nu ? "E_nu" : "E_B") << "\"\n"
-    << "K = " << tnum(f.K) << "\n"
-    << "n = " << tnum(f.n) << "\n"
-    << "R_f = " << tnum(f.R_f) << "\n"
-    << "phi = " << tnum(f.phi) << "\n"
-    << "c = " << tnum(f.c) << "\n";
-  if (f.form == DuncanChangForm::E_nu)
-    o << "G = " << tnum(f.G) << "\n"
-      << "F = " << tnum(f.F) << "\n"
-      << "d = " << tnum(f.d) << "\n";
-  else
-    o << "K_b = " << tnum(f.K_b) << "\n"
-      << "m = " << tnum(f.m) << "\n";
-  o << "p_a = " << tnum(p_a) << "\n";
+  o << header << "\n";
+  for (const auto& c : fit.comments) o << "# " << c << "\n";
+  o << comments(fit.residuals, fit.notes);
+  for (const auto& v : fit.values) {
+    o << v.name << " = ";
+    if (v.text.empty())
+      o << tnum(v.value);
+    else {
+      o << '"';
+      for (char c : v.text) {
+        if (c == '"' || c == '\\') o << '\\';
+        o << c;
+      }
+      o << '"';
+    }
+    o << "\n";
+  }
   return o.str();
 }
 
-std::string to_toml(const ContactFit& f, const std::string& header) {
-  std::ostringstream o;
-  o << header << "\n"
-    << "# Nonlinear Goodman contact (goodman_nonlinear, docs/calibration.md): K_s = k_s0 + alpha "
-       "(sigma_n/p_a)^m\n"
-    << "# in kPa/m, Coulomb peak and residual lines; angles in degrees, c in kPa.\n"
-    << comments(f.residuals, f.notes);
-  o << "k_s0 = " << tnum(f.k_s0) << "\n"
-    << "alpha = " << tnum(f.alpha) << "\n"
-    << "m = " << tnum(f.m) << "\n"
-    << "c_peak = " << tnum(f.c_peak) << "\n"
-    << "phi_peak = " << tnum(f.phi_peak) << "\n"
-    << "c_residual = " << tnum(f.c_residual) << "\n"
-    << "phi_residual = " << tnum(f.phi_residual) << "\n"
-    << "p_a = " << tnum(p_a) << "\n";
-  return o.str();
-}
-
-std::string to_toml(const InterfaceFit& f, const std::string& header) {
-  std::ostringstream o;
-  o << header << "\n"
-    << "# Hyperbolic (Clough-Duncan) interface (hyperbolic_interface, docs/calibration.md):\n"
-    << "# K_st = K_I gamma_w (sigma_n/p_a)^n (1 - R_f tau/(c_a + sigma_n tan delta))^2; delta in degrees.\n"
-    << "# Kondner start: K_I = " << fmt(f.K0) << ", n = " << fmt(f.n0) << ", R_f = " << fmt(f.R_f0)
-    << ", c_a = " << fmt(f.c_a0) << ", delta = " << fmt(f.delta0) << "; Levenberg-Marquardt: " << f.iterations
-    << " iterations\n"
-    << comments(f.residuals, f.notes);
-  o << "K_I = " << tnum(f.K_I) << "\n"
-    << "n = " << tnum(f.n) << "\n"
-    << "R_f = " << tnum(f.R_f) << "\n"
-    << "c_a = " << tnum(f.c_a) << "\n"
-    << "delta = " << tnum(f.delta) << "\n"
-    << "gamma_w = " << tnum(gamma_w) << "\n"
-    << "p_a = " << tnum(p_a) << "\n";
-  return o.str();
-}
-
-} // namespace stratum::calibration
+} // namespace stratum
