@@ -20,7 +20,8 @@
 
 namespace stratum {
 
-/// What an action sees when the scene is read, stage by stage in order, before anything runs.
+/// What an action sees when the scene is built (its text read and checked, its mesh made), stage
+/// by stage in order, before anything runs.
 struct StageCheck {
   const Mesh& mesh;
   std::string context;  ///< e.g. `[[stages]] #2 [[stages.actions]] #1 type = "pressure"`, for messages
@@ -51,7 +52,7 @@ struct StageState {
 class StageAction {
 public:
   virtual ~StageAction() = default;
-  /// Called once when the scene is read: check the sets the action names, record the loads it
+  /// Called once when the scene is built: check the sets the action names, record the loads it
   /// adds or removes. Throw Error (located with Params::where) on bad input.
   virtual void check(StageCheck& scene) { (void)scene; }
   /// Applies the action at the start of its stage (actions run in the order written).
