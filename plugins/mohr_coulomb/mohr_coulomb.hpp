@@ -422,7 +422,8 @@ struct ExactResult {
 ///           + sum_{i<k} (sigma_i - sigma_k) / (tr_i - tr_k) (n_i . d tr n_k)(n_i n_k^T + n_k n_i^T),
 /// the ratio replaced by its limit d sigma_i / d tr_i - d sigma_i / d tr_k for (nearly) equal
 /// trial values.
-[[nodiscard]] inline ExactResult exact_return(const ExactReturn& ret, const Vec6& trial) {
+[[nodiscard]] inline ExactResult exact_return(const ExactReturn& ret, const Vec6& trial,
+                                              bool want_tangent = true) {
   ExactResult out;
   const Eigen::SelfAdjointEigenSolver<Mat3> es(stress_tensor(trial));
   const Vec3 lam = es.eigenvalues();
@@ -440,8 +441,9 @@ struct ExactResult {
     return out;
   }
   out.sigma = stress_voigt(V * pr.sigma.asDiagonal() * V.transpose());
-
-  out.dsigma_dtrial = spectral_tangent(lam, V, pr.sigma, pr.jacobian, 1e-9 * ret.scale(lam));
+  // A residual-only evaluation (MaterialInput::want_tangent false) skips the spectral derivative.
+  if (want_tangent)
+    out.dsigma_dtrial = spectral_tangent(lam, V, pr.sigma, pr.jacobian, 1e-9 * ret.scale(lam));
   return out;
 }
 
@@ -504,25 +506,26 @@ public:
                               "mohr_coulomb: non-finite strain increment or stress" + where());
     const Vec6 trial = in.stress_n + D_ * in.dstrain;
     if (p_.form == Form::exact) {
-      const ExactResult r = exact_return(exact_, trial);
+      const ExactResult r = exact_return(exact_, trial, in.want_tangent);
       if (!r.ok)
         return Outcome::failure(Status::material_failure,
                                 "mohr_coulomb: no admissible return found in principal space" + where());
       out.stress = r.sigma;
-      out.tangent = r.dsigma_dtrial * D_;
+      if (in.want_tangent) out.tangent = r.dsigma_dtrial * D_;
     } else {
       const bool beyond = rounded_.yield(0, trial, {}) > 0.0 && rounded_apex_regime(rounded_, G_, K_, trial);
       if (beyond) {
         out.stress = rounded_.apex() * plasticity::identity();
-        out.tangent.setZero();
+        if (in.want_tangent) out.tangent.setZero();
       } else {
         const plasticity::Result r =
-            plasticity::integrate(rounded_, settings_, in.stress_n, in.dstrain, out.stress, {}, out.tangent);
+            plasticity::integrate(rounded_, settings_, in.stress_n, in.dstrain, out.stress, {}, out.tangent,
+                                  nullptr, in.want_tangent);
         if (!r.outcome.ok())
           return Outcome::failure(r.outcome.status, "mohr_coulomb: " + r.outcome.message + where());
       }
     }
-    if (!out.stress.allFinite() || !out.tangent.allFinite())
+    if (!out.stress.allFinite() || (in.want_tangent && !out.tangent.allFinite()))
       return Outcome::failure(Status::non_finite, "mohr_coulomb: non-finite stress or tangent" + where());
     const Vec6 dep = in.dstrain - S_ * (out.stress - in.stress_n);
     out.history[0] = (in.history_n.empty() ? 0.0 : in.history_n[0]) + equivalent_plastic_strain(dep);
