@@ -13,51 +13,55 @@ namespace fs = std::filesystem;
 
 namespace stratum {
 
+namespace {
+
+/// One `key = value` line, the value written by toml++ (quoting and escapes, nan and inf).
+template <class T> void line(std::ostringstream& o, const char* key, T value) {
+  o << key << " = " << toml::toml_formatter(toml::value<T>(std::move(value))) << "\n";
+}
+
+} // namespace
+
 std::string summary_toml(const RunSummary& summary, const std::string& scene, std::size_t stages) {
-  toml::table t;
-  t.insert("program", std::string("stratum ") + STRATUM_VERSION);
-  t.insert("scene", scene);
+  // Written key by key, so that the file reads in this order (a toml::table would sort them).
+  std::ostringstream o;
+  o << "# How the run of " << scene << " ended (written at its end; README.md, \"Exit codes\").\n";
+  line(o, "program", std::string("stratum ") + STRATUM_VERSION);
+  line(o, "scene", scene);
   // ended: "completed" (every stage ran to its end), "stopped" (a stage ended the run early, as
   // its rules allow: stop_reason says why) or "failed" (a step found no equilibrium after its
   // cut-backs outside an until_failure stage: status and message say where).
   const char* ended = !summary.outcome.ok()         ? "failed"
                       : summary.stop_reason.empty() ? "completed"
                                                     : "stopped";
-  t.insert("ended", ended);
-  t.insert("status", to_string(summary.outcome.status));
-  t.insert("message", summary.outcome.message);
-  t.insert("stop_reason", summary.stop_reason);
-  t.insert("stop_message", summary.stop_message);
+  line(o, "ended", std::string(ended));
+  line(o, "stop_reason", summary.stop_reason);
+  line(o, "stop_message", summary.stop_message);
   if (summary.stop_reason == "collapse" || summary.stop_reason == "numerical")
-    t.insert("stiffness_ratio", summary.stiffness_ratio);
-  t.insert("stages", static_cast<std::int64_t>(stages));
-  t.insert("stages_done", static_cast<std::int64_t>(summary.stages_done));
-  t.insert("steps_done", static_cast<std::int64_t>(summary.steps_done));
-  t.insert("cutbacks", static_cast<std::int64_t>(summary.cutbacks));
+    line(o, "stiffness_ratio", summary.stiffness_ratio);
+  line(o, "status", std::string(to_string(summary.outcome.status)));
+  line(o, "message", summary.outcome.message);
+  line(o, "stages", static_cast<std::int64_t>(stages));
+  line(o, "stages_done", static_cast<std::int64_t>(summary.stages_done));
+  line(o, "steps_done", static_cast<std::int64_t>(summary.steps_done));
+  line(o, "cutbacks", static_cast<std::int64_t>(summary.cutbacks));
   if (!summary.load_settlement.empty()) {
     // The last converged level of the pile head: load (kN) and settlement (mm, as in the curve).
-    t.insert("head_load", summary.load_settlement.back()[0]);
-    t.insert("head_settlement", summary.load_settlement.back()[1]);
+    line(o, "head_load", summary.load_settlement.back()[0]);
+    line(o, "head_settlement", summary.load_settlement.back()[1]);
   }
-  toml::table counts;
-  counts.insert("assemblies", static_cast<std::int64_t>(summary.times.assemblies));
-  counts.insert("factorizations", static_cast<std::int64_t>(summary.times.factorizations));
-  counts.insert("solves", static_cast<std::int64_t>(summary.times.solves));
-  t.insert("work", std::move(counts));
-  toml::array checks;
+  o << "\n[work]\n";
+  line(o, "assemblies", static_cast<std::int64_t>(summary.times.assemblies));
+  line(o, "factorizations", static_cast<std::int64_t>(summary.times.factorizations));
+  line(o, "solves", static_cast<std::int64_t>(summary.times.solves));
   for (const auto& c : summary.checks) {
-    toml::table ct;
-    ct.insert("label", c.label);
-    ct.insert("value", c.value);
-    ct.insert("expected", c.expected);
-    ct.insert("tolerance", c.tolerance);
-    ct.insert("pass", c.pass);
-    checks.push_back(std::move(ct));
+    o << "\n[[checks]]\n";
+    line(o, "label", c.label);
+    line(o, "value", c.value);
+    line(o, "expected", c.expected);
+    line(o, "tolerance", c.tolerance);
+    line(o, "pass", c.pass);
   }
-  if (!checks.empty()) t.insert("checks", std::move(checks));
-  std::ostringstream o;
-  o << "# How the run of " << scene << " ended (written at its end; README.md, \"Exit codes\").\n"
-    << toml::toml_formatter(t) << "\n";
   return o.str();
 }
 
