@@ -325,6 +325,63 @@ TEST_CASE("a run restarted from a stage checkpoint is bit-identical to the unint
   fs::remove_all(base);
 }
 
+TEST_CASE("a restart refuses a plugin library other than the one that wrote the checkpoint",
+          "[stages][restart]") {
+  // A checkpoint's states were computed by the model code of the libraries the scene opened; a
+  // restart with a rebuilt or changed library would continue them with another model. The
+  // libraries are copied into a folder of the test's own, a checkpoint written with them, then
+  // one library changed (a byte appended: it still loads).
+  namespace fs = std::filesystem;
+  const fs::path base = fs::temp_directory_path() / ("stratum_restart_lib_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  const fs::path plugins = base / "plugins";
+  fs::create_directories(plugins);
+  for (const auto& e : fs::directory_iterator(STRATUM_PLUGIN_DIR))
+    if (e.is_regular_file()) fs::copy_file(e.path(), plugins / e.path().filename());
+  auto run_with = [&](const std::string& out, const std::string& restart) {
+    RunOptions o;
+    o.plugin_dirs = {plugins.string()};
+    o.out_dir = (base / out).string();
+    o.restart_from = restart;
+    return Analysis::from_string(mini_pile, mini_pile_path, std::move(o));
+  };
+  const auto s1 = run_with("full", "")->run();
+  REQUIRE(s1.outcome.ok());
+  REQUIRE(s1.checkpoints.size() == 4);
+  // The same libraries: the restart runs.
+  CHECK(run_with("same", s1.checkpoints[2])->run().outcome.ok());
+  // A checkpoint written before libraries were recorded (its parts without them) still restarts.
+  {
+    stratum::Checkpoint c = stratum::read_checkpoint(s1.checkpoints[2]);
+    std::size_t kept = 0, libraries = 0;
+    for (std::size_t i = 0; i < c.part_names.size(); ++i) {
+      if (c.part_names[i].rfind("plugin library ", 0) == 0) {
+        ++libraries;
+        continue;
+      }
+      c.part_names[kept] = c.part_names[i];
+      c.part_digests[kept] = c.part_digests[i];
+      c.part_stages[kept] = c.part_stages[i];
+      ++kept;
+    }
+    CHECK(libraries == 4); // quad, drucker_prager, linear_elastic, newton
+    c.part_names.resize(kept);
+    c.part_digests.resize(kept);
+    c.part_stages.resize(kept);
+    stratum::write_checkpoint((base / "old.ckpt").string(), c);
+    CHECK(run_with("old", (base / "old.ckpt").string())->run().outcome.ok());
+  }
+  // The quad library changed: refused, naming the library.
+  const fs::path quad = plugins / "stratum_quad.so";
+  REQUIRE(fs::exists(quad));
+  std::ofstream(quad, std::ios::app | std::ios::binary) << '\0';
+  auto changed = run_with("changed", s1.checkpoints[2]);
+  CHECK_THROWS_WITH(changed->run(), Catch::Contains("--restart-from " + s1.checkpoints[2]) &&
+                                        Catch::Contains("plugin library stratum_quad.so is not the file that "
+                                                        "wrote the checkpoint"));
+  fs::remove_all(base);
+}
+
 TEST_CASE("integers are checked in the range they are used in, not cut to 32 bits", "[stages][cli]") {
   // 2^32 + 8 cells and 2^32 + 1 steps were taken as 8 cells and 1 step on 997ba04.
   CHECK_THROWS_WITH(

@@ -60,7 +60,15 @@ struct Analysis::Impl {
   std::string fingerprint;
   std::vector<std::string> warnings;  ///< Analysis::warnings()
   std::vector<FingerprintPart> parts; ///< checked on restart (scene_fingerprint.hpp)
-  double time = 0.0;                  ///< output time: stage number - 1 + load factor
+  /// Adds the plugin libraries' parts to `parts` (once): only a run that writes or reads a
+  /// checkpoint reads the library files.
+  void add_library_parts() {
+    if (library_parts_added) return;
+    for (auto& part : library_parts(catalog->opened())) parts.push_back(std::move(part));
+    library_parts_added = true;
+  }
+  bool library_parts_added = false;
+  double time = 0.0; ///< output time: stage number - 1 + load factor
   // What the VTK field data of a step says (write_step): the stage running, its step, and the
   // pile head's load and settlement where a head is monitored (NaN otherwise).
   std::string stage_name = "initial";

@@ -31,6 +31,7 @@ RunSummary Analysis::run() {
          ++i)
       saved.push_back({c.part_names[i], c.part_digests[i], c.part_stages[i], {}});
     SourceLocation where;
+    s.add_library_parts();
     if (const std::string why = fingerprint_mismatch(saved, s.parts, c.stages_done, &where); !why.empty())
       throw Error(where, "--restart-from " + path + ": " + why);
     if (c.states.size() != m.domains.size() || c.u.size() != static_cast<std::size_t>(m.u.size()))
@@ -76,6 +77,7 @@ RunSummary Analysis::run() {
       const auto t_ckpt = std::chrono::steady_clock::now();
       Checkpoint c;
       c.fingerprint = s.fingerprint;
+      s.add_library_parts();
       for (const auto& p : s.parts)
         if (p.stage <= static_cast<int>(k)) {
           c.part_names.push_back(p.name);

@@ -3,6 +3,8 @@
 #include "toml_check.hpp"
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace stratum {
@@ -101,6 +103,21 @@ std::vector<FingerprintPart> scene_parts(const toml::table& root, const std::str
   return parts;
 }
 
+std::vector<FingerprintPart> library_parts(const std::vector<std::string>& paths) {
+  std::vector<FingerprintPart> parts;
+  for (const auto& path : paths) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    if (!in) throw Error("cannot read the plugin library '" + path + "' to record it in checkpoints");
+    parts.push_back({"plugin library " + std::filesystem::path(path).filename().string(),
+                     digest_of(bytes.str()),
+                     FingerprintPart::if_both,
+                     {}});
+  }
+  return parts;
+}
+
 std::string fingerprint_mismatch(const std::vector<FingerprintPart>& saved,
                                  const std::vector<FingerprintPart>& current, int stages_done,
                                  SourceLocation* where) {
@@ -110,15 +127,22 @@ std::string fingerprint_mismatch(const std::vector<FingerprintPart>& saved,
     const FingerprintPart* c = nullptr;
     for (const auto& p : current)
       if (p.name == s.name) c = &p;
-    if (!c) return s.name + " of the scene that wrote the checkpoint is missing from this scene";
+    if (!c) {
+      if (s.stage == FingerprintPart::if_both) continue; // a library this run does not open
+      return s.name + " of the scene that wrote the checkpoint is missing from this scene";
+    }
     if (c->digest != s.digest) {
       if (where) *where = c->where;
+      if (s.stage == FingerprintPart::if_both)
+        return c->name + " is not the file that wrote the checkpoint (rebuilt or changed): its model's "
+                         "saved states would be continued by another model; restart with the library "
+                         "that wrote them, or run the scene from its start";
       return c->name + " differs from the scene that wrote the checkpoint (it must stay as it was up to the "
                        "restart; only later stages may change)";
     }
   }
   for (const auto& c : current) {
-    if (!relevant(c)) continue;
+    if (!relevant(c) || c.stage == FingerprintPart::if_both) continue; // a library it did not use: fine
     bool found = false;
     for (const auto& s : saved) found = found || s.name == c.name;
     if (!found) {

@@ -23,8 +23,12 @@ namespace stratum {
 struct FingerprintPart {
   std::string name;   ///< e.g. "[materials.concrete]", "[[stages]] #2 \"boring\"", "mesh"
   std::string digest; ///< 16 hex digits (FNV-1a 64 of the canonical text)
-  int stage = -1;     ///< -1: global; else the 0-based stage the part belongs to
+  /// -1: global; >= 0: the 0-based stage the part belongs to; if_both: global, compared only
+  /// when both scenes have it (a plugin library: a restart may open libraries that only its
+  /// later stages use, and a checkpoint written before libraries were recorded has none).
+  int stage = -1;
   SourceLocation where;
+  static constexpr int if_both = -2;
 };
 
 /// 16 hex digits of the 64-bit FNV-1a hash of `text`.
@@ -40,6 +44,12 @@ inline constexpr const char* mesh_part_name = "the mesh (nodes, cells and sets a
 
 /// The digest of a built mesh: coordinates, cells and sets, after interface splits.
 [[nodiscard]] std::string mesh_digest(const Mesh& mesh);
+
+/// One part per plugin library the scene opened (`paths`): "plugin library <file name>" with the
+/// digest of the file's bytes, so that a restart with a rebuilt or changed model library is
+/// refused (the saved states were computed by the other one). Throws Error when a file cannot
+/// be read.
+[[nodiscard]] std::vector<FingerprintPart> library_parts(const std::vector<std::string>& paths);
 
 /// The first part of `saved` (a checkpoint's, written after `stages_done` stages) that the scene's
 /// `current` parts do not reproduce, as a message; "" when they agree.
