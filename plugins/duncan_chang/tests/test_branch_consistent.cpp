@@ -259,3 +259,142 @@ TEST_CASE("error-controlled load steps keep every accepted step within the toler
   REQUIRE(plain.outcome.ok());
   CHECK(plain.steps_done == 4);
 }
+
+namespace {
+
+/// The explicit update of `m` from `s` (history `h`) over `de`: the stress.
+Vec6 explicit_stress(const dc::DuncanChang& m, const Vec6& s, const std::vector<double>& h, const Vec6& de) {
+  std::vector<double> out_h(h.size(), 0.0);
+  Vec6 stress;
+  Mat6 tangent;
+  stratum::MaterialOutput out{stress, out_h, tangent};
+  const Vec6 e_n = Vec6::Zero();
+  REQUIRE(m.update(stratum::MaterialInput{s, e_n, h, de, {0, 0}}, out).ok());
+  return stress;
+}
+
+/// A compressive state with sigma_1 > sigma_2 > sigma_3 at 40 % of its strength, at its maximum.
+struct AtMaximum {
+  dc::DuncanChang m{loess_explicit(false)};
+  Vec6 s;
+  std::vector<double> h = std::vector<double>(8, 0.0);
+  Mat6 D_ur, D_t;
+  AtMaximum() {
+    s = (Vec6() << -100.0, -100.0, -130.0, 0, 0, 0).finished();
+    const double q_f = m.point(s).q_f;
+    s[1] = -100.0 - 0.4 * q_f;
+    m.init_history(s, h);
+    D_ur = m.explicit_stiffness(m.point(s), 1.0);
+    D_t = m.explicit_stiffness(m.point(s), 0.0);
+  }
+  /// The rule's E_ur trial of `de` ends at or above the maximum: the update takes E_t.
+  [[nodiscard]] bool loads(const Vec6& de) const {
+    return !(m.point(Vec6(s + D_ur * de)).S < h[0] - 1e-12 * std::max(1.0, h[0]));
+  }
+};
+
+} // namespace
+
+TEST_CASE("duncan_chang: at a point at its maximum the increment rule's stress jumps by (D_ur - D_t) d eps",
+          "[duncan_chang]") {
+  // Why the pile's settlement near failure is defined only to a band (docs/benchmarks.md, "The
+  // 60 kN settlement is not unique"): the increment rule reads the E_ur trial, so at a point that
+  // sits at its maximum the switch from E_ur to E_t lies on the surface where the E_ur trial keeps
+  // the stress level, and there the two branches give different stresses for the same increment.
+  // The update is discontinuous in the strain increment; a global equilibrium through such points
+  // can have no exact solution or several.
+  const AtMaximum p;
+  REQUIRE(p.h[0] == Approx(0.4).margin(1e-3));
+  // Two increments, one unloading (the axial compression released) and one loading (more axial
+  // compression), and the straight path between them; bisection finds where the path crosses the
+  // switch (the E_ur trial's stress level equals the maximum).
+  const Vec6 unload = (Vec6() << -2e-4, 4e-4, -2e-4, 0, 0, 0).finished();
+  const Vec6 load = (Vec6() << 3e-4, -4e-4, 1e-4, 0, 0, 0).finished();
+  REQUIRE_FALSE(p.loads(unload));
+  REQUIRE(p.loads(load));
+  double lo = 0.0, hi = 1.0; // path(lo) unloads, path(hi) loads
+  auto path = [&](double t) { return Vec6((1.0 - t) * unload + t * load); };
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (p.loads(path(mid)) ? hi : lo) = mid;
+  }
+  const Vec6 de_below = path(lo), de_above = path(hi);
+  REQUIRE((de_above - de_below).norm() < 1e-15);
+  const Vec6 s_below = explicit_stress(p.m, p.s, p.h, de_below);
+  const Vec6 s_above = explicit_stress(p.m, p.s, p.h, de_above);
+  // Each side is its branch in closed form: D_ur d eps below, D_t d eps above (the split fraction
+  // of a point at its maximum is 0).
+  const double scale = (p.D_ur * de_below).norm();
+  CHECK((s_below - (p.s + p.D_ur * de_below)).norm() < 1e-9 * scale);
+  CHECK((s_above - (p.s + p.D_t * de_above)).norm() < 1e-9 * scale);
+  // Across an increment change of 1e-15 the stress jumps by (D_ur - D_t) d eps: here a third of
+  // the stress increment itself, not a rounding.
+  const Vec6 jump = s_above - s_below, expected = (p.D_t - p.D_ur) * de_below;
+  CAPTURE(jump.transpose(), expected.transpose());
+  CHECK((jump - expected).norm() < 1e-9 * scale);
+  CHECK(jump.norm() > 0.3 * scale);
+}
+
+TEST_CASE("duncan_chang: the increment rule admits two exact equilibrium states for one load, or none",
+          "[duncan_chang]") {
+  // A point at its maximum under a prescribed increment ds of its three normal stresses (a
+  // mixed-control element test; the shears stay zero). A strain increment solves it when the
+  // explicit update of it returns s + ds. The E_ur candidate C_ur^-1 ds solves it when its own
+  // trial unloads, n . ds < 0 (n the gradient of the stress level); the E_t candidate C_t^-1 ds
+  // when its E_ur trial C_ur C_t^-1 ds loads, m . ds >= 0 with m = (C_ur C_t^-1)^T n. The moduli
+  // differ in E and in nu (E_ur with nu_i = f, E_t with nu_t), so m is not parallel to n and the
+  // two half-spaces overlap in a wedge (two exact solutions) and leave a wedge free (none). Which
+  // of two states Newton finds depends on where it starts and how it iterates; on the pile such
+  // points decide the settlement near failure (docs/benchmarks.md).
+  const AtMaximum p;
+  const Eigen::Matrix3d C_ur = p.D_ur.topLeftCorner<3, 3>(), C_t = p.D_t.topLeftCorner<3, 3>();
+  // n by central differences of the stress level in the three normal stresses.
+  Eigen::Vector3d n;
+  for (int k = 0; k < 3; ++k) {
+    Vec6 a = p.s, b = p.s;
+    a[k] += 1e-4;
+    b[k] -= 1e-4;
+    n[k] = (p.m.point(a).S - p.m.point(b).S) / 2e-4;
+  }
+  const Eigen::Vector3d m = (C_ur * C_t.inverse()).transpose() * n;
+  const double angle = std::acos(n.dot(m) / (n.norm() * m.norm()));
+  INFO("angle between the two switching planes: " << angle * 180.0 / std::numbers::pi << " deg");
+  REQUIRE(angle > 1e-3);
+  // A stress increment of 1 kPa in each wedge: n . ds and m . ds of opposite signs, solved from
+  // the 2 x 2 system in the plane of n and m.
+  auto in_wedge = [&](double sn, double sm) {
+    Eigen::Matrix2d g;
+    g << n.dot(n), n.dot(m), m.dot(n), m.dot(m);
+    const Eigen::Vector2d ab = g.lu().solve(Eigen::Vector2d(sn * n.norm(), sm * m.norm()));
+    const Eigen::Vector3d d = ab[0] * n + ab[1] * m;
+    return Eigen::Vector3d(d / d.norm());
+  };
+  auto solves = [&](const Eigen::Matrix3d& C, const Eigen::Vector3d& ds3) {
+    Vec6 de = Vec6::Zero(), ds = Vec6::Zero();
+    de.head<3>() = C.lu().solve(ds3);
+    ds.head<3>() = ds3;
+    return (explicit_stress(p.m, p.s, p.h, de) - (p.s + ds)).norm() < 1e-9 * ds.norm();
+  };
+  SECTION("two solutions: the E_ur trial of the E_ur candidate unloads, that of the E_t candidate loads") {
+    const Eigen::Vector3d ds = in_wedge(-1.0, 1.0);
+    CAPTURE(ds.transpose());
+    CHECK(solves(C_ur, ds));
+    CHECK(solves(C_t, ds));
+    // The two strain increments differ by more than the E_ur one itself (E_t is far softer).
+    const Eigen::Vector3d e_ur = C_ur.lu().solve(ds), e_t = C_t.lu().solve(ds);
+    CHECK((e_t - e_ur).norm() > e_ur.norm());
+  }
+  SECTION("no solution: each candidate's own trial picks the other branch") {
+    const Eigen::Vector3d ds = in_wedge(1.0, -1.0);
+    CAPTURE(ds.transpose());
+    CHECK_FALSE(solves(C_ur, ds));
+    CHECK_FALSE(solves(C_t, ds));
+  }
+  SECTION("outside the wedges exactly one, the branch the stress increment's sign gives") {
+    const Eigen::Vector3d up = n / n.norm(); // loading along the gradient: E_t only
+    CHECK_FALSE(solves(C_ur, up));
+    CHECK(solves(C_t, up));
+    CHECK(solves(C_ur, Eigen::Vector3d(-up))); // unloading: E_ur only
+    CHECK_FALSE(solves(C_t, Eigen::Vector3d(-up)));
+  }
+}
