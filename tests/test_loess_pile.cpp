@@ -179,8 +179,13 @@ TEST_CASE("a pile loaded past its capacity stops cleanly and names the step that
   // Without the settlement limit: with the branch-consistent iteration the coarse mesh's large
   // steps converge past 27 mm (42 mm at 118 kN), so the limit would end the run first; the next
   // step then fails (Newton's contraction test) after its cut-backs.
+  // With the force test alone: the scene's displacement test makes the last steps before the
+  // collapse harder to converge on this coarse mesh, and the run then ends one step earlier
+  // (116 kN, exit 4) as a numerical failure of a still-stiff structure, which is not the case
+  // this test is about.
   std::string scene = coarse_scene("5", "150.0");
   replace(scene, "stop_settlement = 0.027", "stop_settlement = 0.0");
+  replace(scene, "displacement_test = true", "displacement_test = false");
   std::ofstream(dir / "pile.toml") << scene;
   REQUIRE(sh("cd " + dir.string() + " && " + exe + " run pile.toml > run.txt 2> err.txt") == 0);
   const std::string out = slurp(dir / "run.txt"), err = slurp(dir / "err.txt");
@@ -239,12 +244,16 @@ TEST_CASE("the default loess pile scene against its converged reference curve",
           "[loess_pile][cli][reference]") {
   // tests/data/loess_pile_reference.csv: the default scene's whole curve with 0.0625 kN load
   // steps (its header says how and at which commit it was computed). The scene loads in
-  // 0.625 kN steps; the explicit update is first order in the step, so its settlement is a
-  // little too small, more so towards failure (docs/benchmarks.md: +0.02, -0.14, -0.53 and
-  // -1.40 % at 15, 30, 45 and 60 kN, +0.60 % in the load at 27 mm). The bounds are the targets
-  // of issue 18 (1 % in settlement, 2 % in the load at 27 mm), except at 60 kN, which misses
-  // the 1 % and is held to 2.5 %. A solver that accepted states on the wrong branches, or a
-  // changed model, moves the curve by more.
+  // 0.625 kN steps; the explicit update is first order in the step (docs/benchmarks.md: +0.22,
+  // +0.05, -0.35 and -1.45 % at 15, 30, 45 and 60 kN, +0.64 % in the load at 27 mm). The bounds
+  // are the targets of issue 18 (1 % in settlement, 2 % in the load at 27 mm) up to 45 kN, where
+  // perturbations of the scene (another LU, the tolerance by a factor 1.4, 4 % of the step count)
+  // move the curve by 0.2 % at most, so the test does not pass by luck. At 60 kN the same
+  // perturbations spread it over 3 % (the increment rule has several equilibrium states near
+  // failure, or none: plugins/duncan_chang/README.md, "Why the settlement near failure is a
+  // band"); 2.5 % there guards this scene's schedule against changes, it is not a statement of
+  // accuracy. A solver that accepted states on the wrong branches, or a changed model, moves the
+  // curve by more.
   const auto ref = read_curve(fs::path(STRATUM_SOURCE_DIR) / "tests/data/loess_pile_reference.csv");
   REQUIRE(ref.size() > 500);
   const fs::path dir = fs::temp_directory_path() / ("stratum_loess_ref_" + std::to_string(::getpid()));

@@ -106,14 +106,14 @@ def table(head, rows):
     return text
 
 
-def write_section(md, pending, no_write):
-    """Rewrites this program's section of docs/benchmarks.md with the parts done so far."""
+def write_section(md, pending, no_write, name="bench_pile"):
+    """Rewrites the section `name` of docs/benchmarks.md with the parts done so far."""
     if no_write:
         return
     parts = md + ([f"*This regeneration has not yet run: {', '.join(pending)}.*\n"] if pending else [])
     docs = ROOT / "docs" / "benchmarks.md"
     old = docs.read_text()
-    begin, end = "<!-- bench_pile:begin -->", "<!-- bench_pile:end -->"
+    begin, end = f"<!-- {name}:begin -->", f"<!-- {name}:end -->"
     block = f"{begin}\n" + "\n".join(parts) + f"\n{end}"
     if begin in old:
         new = old[: old.index(begin)] + block + old[old.index(end) + len(end):]
