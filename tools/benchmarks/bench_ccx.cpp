@@ -23,6 +23,7 @@
 // README.md in this folder describes what is timed and the columns.
 #include "cli.hpp"
 #include "docs_section.hpp"
+#include "machine.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/linear_solver.hpp"
 #include "stratum/model.hpp"
@@ -50,6 +51,8 @@
 namespace fs = std::filesystem;
 
 namespace {
+
+using namespace stratum::bench; // median, fixed, cpu_model, today_utc, ... (machine.hpp)
 
 using Clock = std::chrono::steady_clock;
 
@@ -568,12 +571,6 @@ TrescaRow measure_tresca(const Size& s, const Options& o) {
   return r;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /// One row: medians of the times over the repetitions, the results of the first (they do
 /// not change between repetitions), the medians of the per-repetition ratios.
 struct Row {
@@ -602,12 +599,6 @@ Row summarize(const Spec& p, const Size& s, const std::vector<Sample>& v) {
 }
 
 double rel(double x, double ref) { return std::abs(x - ref) / std::abs(ref); }
-
-std::string fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
 
 std::string sci(double v, int digits = 1) {
   char buf[64];
@@ -658,42 +649,6 @@ void print_row(const Row& r) {
 }
 
 // ---- docs/benchmarks.md
-
-std::string cpu_model() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) {
-      const auto colon = line.find(':');
-      if (colon != std::string::npos) {
-        std::string s = line.substr(colon + 1);
-        s.erase(0, s.find_first_not_of(" \t"));
-        return s;
-      }
-    }
-  return "unknown CPU";
-}
-
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string one;
-  in >> one;
-  return one.empty() ? "unknown" : one;
-}
-
-std::string env_or(const char* name, const char* fallback) {
-  const char* v = std::getenv(name);
-  return v && *v ? v : fallback;
-}
-
-std::string today_utc() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", &tm);
-  return buf;
-}
 
 /// The first line of `ccx -v` (its version), or "ccx".
 std::string ccx_version(const Options& o) {

@@ -24,6 +24,7 @@
 // README.md in this folder describes the columns.
 #include "cli.hpp"
 #include "docs_section.hpp"
+#include "machine.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/linear_solver.hpp"
 #include "stratum/material.hpp"
@@ -46,6 +47,8 @@
 #include <vector>
 
 namespace {
+
+using namespace stratum::bench; // median, fixed, cpu_model, today_utc, ... (machine.hpp)
 
 using Clock = std::chrono::steady_clock;
 
@@ -385,12 +388,6 @@ Sample measure(Problem problem, const Size& s, const std::string& plugin_dir, do
   return r;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /// The medians over the repetitions of one problem and size.
 struct Row {
   Problem problem = Problem::elastic;
@@ -410,14 +407,6 @@ struct Row {
   double peak_mib = 0;
   int repeats = 0;
 };
-
-/// The 1-minute load average: other processes on a shared machine inflate wall times.
-std::string load_average() {
-  std::ifstream in("/proc/loadavg");
-  std::string one;
-  in >> one;
-  return one.empty() ? "unknown" : one;
-}
 
 Row summarize(Problem p, const Size& s, const std::vector<Sample>& v, double wall, double peak) {
   Row row;
@@ -506,41 +495,6 @@ Fit fit(const std::vector<Row>& rows, Problem p, double Row::*field) {
   return f;
 }
 
-double peak_rss_mib() {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::strtod(line.c_str() + 6, nullptr) / 1024.0;
-  return 0.0;
-}
-
-std::string cpu_model() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) {
-      const auto colon = line.find(':');
-      if (colon != std::string::npos) {
-        std::string s = line.substr(colon + 1);
-        s.erase(0, s.find_first_not_of(" \t"));
-        return s;
-      }
-    }
-  return "unknown CPU";
-}
-
-std::string env_or(const char* name, const char* fallback) {
-  const char* v = std::getenv(name);
-  return v && *v ? v : fallback;
-}
-
-std::string fixed(double v, int digits) {
-  if (!std::isfinite(v)) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-
 std::string sci(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.1e", v);
@@ -565,15 +519,6 @@ std::string grouped(long long v) {
     out += s[i];
   }
   return out;
-}
-
-std::string today_utc() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M UTC", &tm);
-  return buf;
 }
 
 // ---- console
