@@ -1,5 +1,6 @@
 #include "stratum/body_interfaces.hpp"
 
+#include "scene/domain_points.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/scene.hpp"
 #include "scene/schemas.hpp"
@@ -289,25 +290,9 @@ void build_scene_interfaces(const scene::Scene& sc, Model& model, SceneInterface
     dm.element = out.elements.back().get();
     dm.law.contact = out.laws[f.law_index].get();
     dm.cells = split.cells;
-    dm.first_point.assign(dm.cells.size() + 1, 0);
-    std::vector<int> nodes;
-    Eigen::MatrixX2d x;
-    for (std::size_t c = 0; c < dm.cells.size(); ++c) {
-      const int cell = dm.cells[c];
-      const unsigned shape = model.mesh.cells[static_cast<std::size_t>(cell)].shape();
-      try {
-        dm.element->check_shape(shape);
-        model.cell_nodes(cell, nodes, x);
-        dm.element->check_geometry(ElementData{cell, shape, &x});
-      } catch (const Error& e) {
-        throw Error(f.element_at, ctx + " cell " + std::to_string(cell) + ": " + e.message());
-      }
-      dm.first_point[c + 1] = dm.first_point[c] + static_cast<std::size_t>(dm.element->num_points(shape));
-    }
-    dm.states = StateStore(dm.first_point.back(), dm.law.contact->history_size());
-    for (std::size_t p = 0; p < dm.states.points(); ++p)
-      dm.law.contact->init_history(dm.states.committed_for_init(p).history());
-    dm.states.revert();
+    const ContactLaw& law = *dm.law.contact;
+    place_points(dm, model, law.history_size(), ctx, f.element_at,
+                 [&](std::span<double> h) { law.init_history(h); });
     out.interfaces.push_back({f.name, model.domains.size(), f.csv});
     model.domains.push_back(std::move(dm));
   }

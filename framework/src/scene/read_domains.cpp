@@ -1,6 +1,7 @@
 // [materials], [[domains]] and [[constraints]]: read into the Scene (scene.hpp), then built
 // against the mesh.
 #include "analysis_impl.hpp"
+#include "scene/domain_points.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/scene.hpp"
 #include "scene/schemas.hpp"
@@ -118,31 +119,15 @@ void Analysis::Impl::build_domains(const scene::Scene& sc) {
     dm.element = elements.back().get();
     dm.law.material = materials[d.material_index].get();
     dm.cells = cs->second;
-    dm.first_point.assign(dm.cells.size() + 1, 0);
-    for (std::size_t c = 0; c < dm.cells.size(); ++c) {
-      const int cell = dm.cells[c];
+    for (const int cell : dm.cells) {
       if (owner[cell] >= 0)
         throw Error(d.cells_at, ctx + " cell " + std::to_string(cell) + " already belongs to [[domains]] #" +
                                     std::to_string(owner[cell] + 1));
       owner[cell] = static_cast<int>(i);
-      const unsigned shape = model.mesh.cells[cell].shape();
-      try {
-        dm.element->check_shape(shape);
-        std::vector<int> cn;
-        Eigen::MatrixX2d cx;
-        model.cell_nodes(cell, cn, cx);
-        dm.element->check_geometry(ElementData{cell, shape, &cx});
-      } catch (const Error& e) {
-        throw Error(d.element_at, ctx + " cell " + std::to_string(cell) + ": " + e.message());
-      }
-      dm.first_point[c + 1] = dm.first_point[c] + static_cast<std::size_t>(dm.element->num_points(shape));
     }
-    dm.states = StateStore(dm.first_point.back(), dm.law.material->history_size());
-    for (std::size_t p = 0; p < dm.states.points(); ++p) {
-      auto slot = dm.states.committed_for_init(p);
-      dm.law.material->init_history(Vec6::Zero(), slot.history());
-    }
-    dm.states.revert();
+    const Material& material = *dm.law.material;
+    place_points(dm, model, material.history_size(), ctx, d.element_at,
+                 [&](std::span<double> h) { material.init_history(Vec6::Zero(), h); });
     model.domains.push_back(std::move(dm));
   }
   // A cell that no domain covers has no element and no material: it stays out of the model for
