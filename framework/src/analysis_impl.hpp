@@ -4,6 +4,7 @@
 #pragma once
 
 #include "recorders.hpp"
+#include "scene/scene.hpp"
 #include "scene/scene_fingerprint.hpp"
 #include "scene/scene_interfaces.hpp"
 #include "stages/stage.hpp"
@@ -21,10 +22,6 @@
 #include <vector>
 
 namespace stratum {
-
-namespace scene {
-struct Scene;
-}
 
 /// The text of <out>/summary.toml for a run of `scene` with `stages` stages.
 [[nodiscard]] std::string summary_toml(const RunSummary& summary, const std::string& scene,
@@ -46,14 +43,8 @@ struct Analysis::Impl {
   Params solver_params;
   Model model;
   Units units; ///< [units]: the scene's force and length (stratum/units.hpp)
-  std::string linear_solver = "auto";
-  bool reuse_linear_stiffness = true;
-  bool reuse_symbolic = true;
-  int threads = 1; ///< element-loop threads, resolved ([analysis] threads, 0 = the machine's)
-  StepSettings stepping;
-  Convergence convergence;
-  bool vtk = true, ip_output = true;
-  int every = 1;
+  /// [analysis], [convergence] and [output] as read (threads resolved: 0 = the machine's cores).
+  scene::Settings settings;
   std::vector<stage::Stage> stages;
   std::vector<stage::LoadSpec> loads; ///< loads applied at the current state, in order
   Eigen::VectorXd initial_prescribed; ///< [[constraints]] values, applied over the first stage
@@ -84,8 +75,7 @@ struct Analysis::Impl {
     double fy = 0.0;
   };
   std::vector<StageLoad> stage_loads;
-  std::string pile_cells; ///< [output] pile_cells: curves/axial_force.csv
-  std::string out_dir;    ///< where the run writes (for the interface CSV files)
+  std::string out_dir; ///< where the run writes (for the interface CSV files)
 
   // Building the run's state from the scene as read (framework/src/scene/scene.hpp), in this
   // order; each step checks what needs the mesh and creates the plugins.
@@ -107,7 +97,6 @@ struct Analysis::Impl {
   void write_tables(const RunSummary& summary, const std::vector<std::array<double, 3>>& axial_rows,
                     const std::vector<StepRecord>& live);
   std::chrono::steady_clock::time_point last_tables = std::chrono::steady_clock::now();
-  double tables_every = 5.0; ///< seconds between rewrites of the tables during a stage
   void write_step(VtkSeriesWriter& w, double time) const;
   /// <out>/summary.toml: how the run ended (output/write_summary.cpp).
   void write_summary(const RunSummary& summary) const;

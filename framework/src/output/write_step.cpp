@@ -67,7 +67,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   // integration points; NaN where a domain's material has no component of that name.
   std::vector<Field> ip_history;
   std::vector<std::vector<int>> history_index(m.domains.size()); // field -> history slot, per domain
-  if (ip_output)
+  if (settings.ip_output)
     for (std::size_t d = 0; d < m.domains.size(); ++d) {
       if (!m.domains[d].law.material) continue;
       const auto names = m.domains[d].law.material->history_names();
@@ -85,7 +85,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   for (const auto& dm : m.domains)
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)
       if (m.is_active(dm.cells[ci])) total_points += dm.first_point[ci + 1] - dm.first_point[ci];
-  out.ip_coords.resize(static_cast<Eigen::Index>(ip_output ? total_points : 0), 2);
+  out.ip_coords.resize(static_cast<Eigen::Index>(settings.ip_output ? total_points : 0), 2);
   Eigen::Index row = 0;
   std::vector<int> nodes;
   Eigen::MatrixX2d x, xp;
@@ -103,7 +103,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
       for (std::size_t p = dm.first_point[ci]; p < dm.first_point[ci + 1]; ++p) {
         const auto slot = dm.states.committed(p);
         avg += wts[static_cast<Eigen::Index>(p - dm.first_point[ci])] * slot.stress();
-        if (ip_output) {
+        if (settings.ip_output) {
           for (int k = 0; k < 6; ++k) {
             ip_stress.values.push_back(slot.stress()[k]);
             ip_strain.values.push_back(slot.strain()[k]);
@@ -119,17 +119,17 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
       }
       for (int k = 0; k < 6; ++k) stress.values.push_back(avg[k]);
       set_id.values.push_back(dm.set_id);
-      if (ip_output) {
+      if (settings.ip_output) {
         dm.element->point_coordinates(data, xp);
         out.ip_coords.middleRows(row, xp.rows()) = xp;
         row += xp.rows();
       }
     }
   out.cell_fields = {std::move(stress), std::move(set_id)};
-  if (ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain), std::move(ip_plastic)};
+  if (settings.ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain), std::move(ip_plastic)};
   for (auto& f : ip_history) out.ip_fields.push_back(std::move(f));
-  add_status_names(m, out, ip_output); // "domain", "domains", "plastic_regimes_<domain>"
-  if (ip_output && !interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
+  add_status_names(m, out, settings.ip_output); // "domain", "domains", "plastic_regimes_<domain>"
+  if (settings.ip_output && !interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
   w.write(out);
   for (const auto& itf : interfaces.interfaces)
     if (itf.csv)

@@ -41,7 +41,7 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
     if (!axial_rows.empty()) {
       af << std::setprecision(10) << load << ',' << depth << ',' << u.column("axial_force", "kN") << '\n';
       double top = -std::numeric_limits<double>::infinity();
-      for (int c : m.mesh.cell_sets.at(pile_cells))
+      for (int c : m.mesh.cell_sets.at(settings.pile_cells))
         for (int n : m.mesh.cells[static_cast<std::size_t>(c)].nodes)
           if (n >= 0) top = std::max(top, m.mesh.nodes[static_cast<std::size_t>(n)].y());
       for (const auto& r : axial_rows) af << r[0] << ',' << top - r[1] << ',' << r[2] << '\n';

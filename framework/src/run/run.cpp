@@ -56,12 +56,12 @@ RunSummary Analysis::run() {
     folder->move_aside_previous(fs::path(s.path).stem().string(), static_cast<int>(first));
   }
   std::unique_ptr<VtkSeriesWriter> writer;
-  if (s.options.write_output && s.vtk) {
+  if (s.options.write_output && s.settings.vtk) {
     // With more than one thread allowed, the VTK files are written on a thread of the writer's
     // own while the next steps are solved (the sparse LU is serial, so a core is often free);
     // the files are the same. [analysis] threads = 1 keeps everything on one thread.
-    writer =
-        std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string(), s.threads > 1);
+    writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string(),
+                                               s.settings.threads > 1);
     timed(summary.times.output, [&] { s.write_step(*writer, s.time); });
   }
   std::vector<std::array<double, 3>> axial_rows;

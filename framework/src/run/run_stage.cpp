@@ -33,9 +33,10 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
 
   // ---- the stage's problem: equilibrium at its start, the target load at its end
   m.rebuild_dofs();
-  const Assembler assembler(m, reuse_linear_stiffness, threads);
+  const Assembler assembler(m, settings.reuse_linear_stiffness, settings.threads);
   auto ls = std::make_unique<TimedLinearSolver>(
-      make_linear_solver(linear_solver, m.symmetric(), m.dofs.free_count), summary.times, !reuse_symbolic);
+      make_linear_solver(settings.linear_solver, m.symmetric(), m.dofs.free_count), summary.times,
+      !settings.reuse_symbolic);
   {
     SparseMatrix kpat = assembler.make_matrix();
     if (auto o = ls->analyze(kpat); !o.ok()) {
@@ -82,7 +83,8 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
       for (int n : head_nodes) P -= m.reactions[2 * n + 1] - m.load_base[2 * n + 1];
     return P;
   };
-  const std::vector<int>* pile = pile_cells.empty() ? nullptr : &m.mesh.cell_sets.at(pile_cells);
+  const std::vector<int>* pile =
+      settings.pile_cells.empty() ? nullptr : &m.mesh.cell_sets.at(settings.pile_cells);
   std::optional<PileComponents> components; // curves/settlement_components.csv (pile_components.hpp)
   auto record = [&] {
     if (!has_head) return;
@@ -124,14 +126,14 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   // ---- load steps (stratum/step_control.hpp)
   const int nominal_steps = st.increments.empty() ? st.steps : static_cast<int>(st.increments.size());
   Eigen::VectorXd u = m.restrict_free(m.u);
-  StepSettings settings = stepping;
-  settings.steps = st.steps;
-  settings.increments = st.increments;
-  settings.max_cutbacks = st.max_cutbacks;
-  settings.error_tolerance = st.error_tolerance;
-  settings.lambda_start = 0.0;
-  settings.lambda_end = 1.0;
-  settings.convergence = convergence;
+  StepSettings stepping = settings.stepping;
+  stepping.steps = st.steps;
+  stepping.increments = st.increments;
+  stepping.max_cutbacks = st.max_cutbacks;
+  stepping.error_tolerance = st.error_tolerance;
+  stepping.lambda_start = 0.0;
+  stepping.lambda_end = 1.0;
+  stepping.convergence = settings.convergence;
   StepCallbacks cb;
   cb.commit = [&] {
     for (auto& dm : m.domains) dm.states.commit();
@@ -189,7 +191,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     for (auto& r : recorders) r.sample(m, static_cast<int>(k) + 1, step, m.lambda, rec.iterations);
     live.push_back(rec);
     live.back().stage = static_cast<int>(k) + 1;
-    if (options.write_output && seconds_since(last_tables) >= tables_every)
+    if (options.write_output && seconds_since(last_tables) >= settings.tables_every)
       timed(summary.times.output, [&] { write_tables(summary, axial_rows, live); });
   };
   bool settled = false, interrupted = false;
@@ -200,7 +202,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
       return interrupted = options.interrupted && options.interrupted();
     };
   solver = solver_factory->create(solver_params);
-  StageResult res = stratum::run_stage(problem, *solver, settings, cb, u);
+  StageResult res = stratum::run_stage(problem, *solver, stepping, cb, u);
   summary.cutbacks += res.cutbacks;
   for (auto& r : res.reports) summary.reports.push_back(std::move(r));
   for (auto& r : res.records) {

@@ -175,9 +175,9 @@ void Analysis::Impl::build_mesh(const scene::Scene& sc) {
   }
   }
   model.mesh.check();
-  if (!pile_cells.empty() && !model.mesh.cell_sets.count(pile_cells))
+  if (!settings.pile_cells.empty() && !model.mesh.cell_sets.count(settings.pile_cells))
     throw Error(sc.settings.pile_cells_at,
-                "[output] pile_cells = \"" + pile_cells +
+                "[output] pile_cells = \"" + settings.pile_cells +
                     "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
   if (model.formulation == Formulation::axisymmetric)
     for (std::size_t n = 0; n < model.mesh.nodes.size(); ++n)

@@ -211,19 +211,8 @@ scene::Scene scene::read(const toml::table& root, const std::string& path, Plugi
 void Analysis::Impl::build(scene::Scene sc) {
   title = sc.title;
   units = sc.units;
-  const scene::Settings& s = sc.settings;
-  model.formulation = s.formulation;
-  linear_solver = s.linear_solver;
-  reuse_linear_stiffness = s.reuse_linear_stiffness;
-  reuse_symbolic = s.reuse_symbolic;
-  threads = s.threads;
-  stepping = s.stepping;
-  convergence = s.convergence;
-  vtk = s.vtk;
-  ip_output = s.ip_output;
-  every = s.every;
-  tables_every = s.tables_every;
-  pile_cells = s.pile_cells;
+  settings = sc.settings;
+  model.formulation = settings.formulation;
   solver_factory = sc.solver.factory;
   solver_params = sc.solver.params;
   solver = sc.solver.create(); // checks the parameters now; each stage gets its own (run_stage)
