@@ -114,6 +114,12 @@ TEST_CASE("cli: --version and plugins listing", "[cli]") {
       cap.out, std::regex(R"(\n  F_CUT +number +kPa +\(0, inf\), default ln\(A/C\)/B, computed)")));
   auto hs = stratum("plugins --describe hardening_soil");
   CHECK(std::regex_search(hs.out, std::regex(R"(\n  K0_nc +number +- +\(0, 1\), default 1 - sin phi)")));
+  // A name that is two plugins shows both: the duncan_chang material and its calibration target.
+  auto dc = stratum("plugins --describe duncan_chang");
+  CHECK(dc.code == 0);
+  CHECK(dc.out.rfind("material duncan_chang: ", 0) == 0);
+  CHECK(dc.out.find("\n\ncalibration duncan_chang: ") != std::string::npos);
+  CHECK(std::regex_search(dc.out, std::regex(R"(\n  form +string)")));
   auto u = stratum("plugins --describe nosuch");
   expect_one_line_error(u, "", "unknown plugin 'nosuch'; known: ");
   CHECK(u.err.find("did you mean") == std::string::npos); // nothing is near "nosuch"

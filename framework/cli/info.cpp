@@ -21,7 +21,8 @@ namespace {
 constexpr const char* plugins_help_text =
     "usage: stratum plugins                   one line per plugin: kind, name, summary\n"
     "       stratum plugins --describe NAME   one plugin in full: library, every parameter with\n"
-    "                                         its type, unit, range, default and meaning\n"
+    "                                         its type, unit, range, default and meaning (every\n"
+    "                                         kind of that name, e.g. a material and its calibration)\n"
     "       stratum plugins --describe        (or --all) every plugin in full\n"
     "       stratum plugins --paths           the folders searched for plugins, one a line, in order\n"
     "\n"
@@ -99,11 +100,16 @@ int plugins(std::vector<std::string> args) {
   register_builtin_factories(reg); // the framework's own stage actions and mesh generators
   catalog.require_all(reg);
   if (one) {
+    // One name may be several plugins, e.g. the duncan_chang material and its calibration
+    // target: each in full, separated by a blank line.
+    bool found = false;
     for (PluginKind k : kinds)
       if (reg.has(k, args[1])) {
+        if (found) std::cout << "\n";
         describe(reg, k, args[1], true, units);
-        return 0;
+        found = true;
       }
+    if (found) return 0;
     std::string known;
     std::vector<std::string> names;
     for (PluginKind k : kinds)
