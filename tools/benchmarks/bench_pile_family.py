@@ -4,10 +4,10 @@
 Runs the default loess pile scene (inputs/loess_pile/hypoelastic.toml, all stages, VTK off) with
 perturbations that a problem with one solution would hardly notice: another sparse LU (other
 round-off), the force tolerance within a factor of 1.4, the Newton line search, 4 % more or fewer
-load steps, and twice and four times as many steps; once with the scene's convergence test (force and displacement)
-and once with the force test alone. Compares each curve with the
+load steps; then with about twice and four times as many steps. Once with the scene's convergence
+test (force and displacement) and once with the force test alone. Compares each curve with the
 committed reference tests/data/loess_pile_reference.csv at 15, 30, 45 and 60 kN and in the load at
-27 mm, and prints the spread of each column. Why the spread grows near failure: the increment
+27 mm, and prints the spread of each column over the runs at the scene's step size. Why the spread grows near failure: the increment
 rule's stress is discontinuous at points at their maximum, and a load can have two exact states
 there or none (plugins/duncan_chang/tests/test_branch_consistent.cpp). Prints the table and
 rewrites the section <!-- bench_pile_family:begin --> ... <!-- bench_pile_family:end --> of
