@@ -189,7 +189,7 @@ TEST_CASE("cross-anisotropic axisymmetric: vertical shear of the annulus around 
   // tau_rz = G_vh du_z/dr = G_vh delta / (r ln(b/a)) at the Gauss points; the normal stresses vanish.
   double worst_t = 0.0, worst_n = 0.0;
   std::vector<int> nodes;
-  Eigen::MatrixX2d x, xp;
+  Eigen::MatrixXd x, xp;
   const Domain& dm = m.domains[0];
   for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
     m.cell_nodes(dm.cells[ci], nodes, x);

@@ -49,7 +49,7 @@ K0 = 0.6
 double geostatic_error(const Model& m) {
   double worst = 0.0;
   std::vector<int> nodes;
-  Eigen::MatrixX2d x, xp;
+  Eigen::MatrixXd x, xp;
   for (const auto& dm : m.domains)
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
       if (!m.is_active(dm.cells[ci])) continue;
@@ -133,7 +133,7 @@ TEST_CASE("boring a cylindrical cavity under in-situ stress: the closed-form unl
   // Stresses at every Gauss point of the ground: in-situ state plus the release.
   double worst[3] = {0, 0, 0};
   std::vector<int> nodes;
-  Eigen::MatrixX2d x, xp;
+  Eigen::MatrixXd x, xp;
   const Domain& dm = m.domains[1];
   REQUIRE(dm.name.find("ground") != std::string::npos);
   for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
@@ -193,7 +193,7 @@ TEST_CASE("fresh-concrete pressure on an elastic borehole: the wall carries the 
   const double B = -A * rb * rb;
   double worst = 0.0;
   std::vector<int> nodes;
-  Eigen::MatrixX2d x, xp;
+  Eigen::MatrixXd x, xp;
   const auto& dm = m.domains[1];
   for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
     m.cell_nodes(dm.cells[ci], nodes, x);

@@ -66,7 +66,7 @@ double l2_error(const Model& m, const Lame& ex) {
   const auto g = quad::gauss_legendre(4);
   double err2 = 0;
   std::vector<int> nodes;
-  Eigen::MatrixX2d x;
+  Eigen::MatrixXd x;
   for (std::size_t c = 0; c < m.mesh.cells.size(); ++c) {
     m.cell_nodes(static_cast<int>(c), nodes, x);
     const unsigned shape = m.mesh.cells[c].shape();
@@ -131,7 +131,7 @@ TEST_CASE("Lamé cylinder quad8: u(a) and sigma_theta(a) within 1e-3", "[verific
     // sigma_theta(a) extrapolated from the three Gauss radii of the cells on the inner face.
     double worst = 0;
     std::vector<int> nodes;
-    Eigen::MatrixX2d x, xp;
+    Eigen::MatrixXd x, xp;
     const auto& dm = m.domains.at(0);
     std::vector<std::pair<double, double>> inner; // (r, sigma_theta) of points in cells touching r = a
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {

@@ -22,7 +22,7 @@
 #include <vector>
 
 namespace fs = std::filesystem;
-using stratum::Field;
+using stratum::OutputArray;
 using stratum::Mesh;
 using stratum::OutputStep;
 using stratum::VtkSeriesWriter;
@@ -81,10 +81,10 @@ OutputStep make_step(const Mesh& mesh, std::vector<int> cells, double time, int 
   s.time = time;
   s.mesh = &mesh;
   s.cells = std::move(cells);
-  Field u{"displacement", 3, {}};
+  OutputArray u{"displacement", 3, {}};
   for (int n = 0; n < static_cast<int>(mesh.nodes.size()); ++n)
     for (int c = 0; c < 3; ++c) u.values.push_back(c == 2 ? 0.0 : displacement(n, c, k));
-  Field sig{"stress", 4, {}}, set{"set_id", 1, {}};
+  OutputArray sig{"stress", 4, {}}, set{"set_id", 1, {}};
   for (int cell : s.cells) {
     for (int c = 0; c < 4; ++c) sig.values.push_back(stress(cell, c, k));
     set.values.push_back(cell == 3 ? 2.0 : 1.0);
@@ -93,7 +93,7 @@ OutputStep make_step(const Mesh& mesh, std::vector<int> cells, double time, int 
   s.cell_fields = {sig, set};
   const auto n_ip = static_cast<Eigen::Index>(2 * s.cells.size());
   s.ip_coords.resize(n_ip, 2);
-  Field eps{"plastic_strain", 1, {}};
+  OutputArray eps{"plastic_strain", 1, {}};
   for (Eigen::Index p = 0; p < n_ip; ++p) {
     s.ip_coords(p, 0) = 0.25 + 0.5 * static_cast<double>(p);
     s.ip_coords(p, 1) = 0.5;

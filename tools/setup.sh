@@ -33,8 +33,13 @@ stratum_build() {
   # a tree configured otherwise (STRATUM_BUILD=build/debug, as the loess-pile CTest case passes
   # its own tree) keeps its build type.
   # A tree whose first configure failed (a cache but no build system) is configured again.
+  # ccache when the machine has it (not installed by default): rebuilds after a header change, and
+  # several worktrees of one repository, then share what did not change.
+  local launcher=()
+  command -v ccache >/dev/null &&
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   [[ -f "$STRATUM_BUILD/CMakeCache.txt" && (-f "$STRATUM_BUILD/build.ninja" || -f "$STRATUM_BUILD/Makefile") ]] ||
-    cmake -S "$STRATUM_ROOT" -B "$STRATUM_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    cmake -S "$STRATUM_ROOT" -B "$STRATUM_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" \
       ${STRATUM_CMAKE_ARGS[@]+"${STRATUM_CMAKE_ARGS[@]}"} >/dev/null
   # getconf, not nproc: nproc honours the OMP_NUM_THREADS=1 exported below and built on one core.
   cmake --build "$STRATUM_BUILD" -j "$(getconf _NPROCESSORS_ONLN)"

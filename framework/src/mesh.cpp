@@ -61,9 +61,14 @@ void Mesh::check() const {
         throw Error(cell_name(c) + ": slot " + std::to_string(s) + " refers to node " + std::to_string(v) +
                     ", which does not exist (the mesh has " + std::to_string(n) + " nodes)");
     }
-    if (cell.kind != CellKind::solid) continue; // interface cells: zero thickness by design
+    if (!is_solid(cell.type)) continue; // interface cells: zero thickness by design
+    if (cell_dimension(cell.type) != 2)
+      throw Error(cell_name(c) + ": a " + to_string(cell.type) +
+                  " in a mesh of two-dimensional nodes; three-dimensional meshes are not read yet");
     // A triangle is a solid cell without corner 3 and its edge's midside slot 7.
     const int nc = cell.nodes[3] < 0 && cell.nodes[7] < 0 ? 3 : 4;
+    if ((nc == 3) != (cell.type == CellType::triangle))
+      throw Error(cell_name(c) + ": a " + to_string(cell.type) + " with " + std::to_string(nc) + " corners");
     for (int s = 0; s < nc; ++s)
       if (cell.nodes[s] < 0) throw Error(cell_name(c) + ": corner slot " + std::to_string(s) + " is empty");
     for (int s = 0; s < nc; ++s) {

@@ -8,6 +8,27 @@
 
 namespace stratum {
 
+int DofMap::field(std::string_view name) const {
+  for (std::size_t f = 0; f < fields.size(); ++f)
+    if (fields[f].name == name) return static_cast<int>(f);
+  return -1;
+}
+
+std::string DofMap::field_list() const {
+  std::string s;
+  for (const Field& f : fields) s += (s.empty() ? "" : ", ") + f.name;
+  return s;
+}
+
+void DofMap::layout() {
+  node_first.assign(node_mask.size() + 1, 0);
+  for (std::size_t n = 0; n < node_mask.size(); ++n)
+    node_first[n + 1] = node_first[n] + std::popcount(node_mask[n]);
+  eq.assign(static_cast<std::size_t>(node_first.back()), 0);
+  prescribed.clear();
+  free_count = 0;
+}
+
 void DofMap::build(const std::vector<char>& fixed) {
   eq.assign(fixed.size(), 0);
   prescribed.clear();
@@ -22,7 +43,67 @@ void DofMap::build(const std::vector<char>& fixed) {
   }
 }
 
-void Model::cell_nodes(int cell, std::vector<int>& nodes, Eigen::MatrixX2d& x) const {
+namespace {
+
+/// The model's id of each of an element's fields, adding the fields the model has not seen.
+void field_ids(DofMap& dofs, const std::vector<Field>& fields, const std::string& domain,
+               std::vector<int>& ids) {
+  ids.clear();
+  for (const Field& f : fields) {
+    int id = dofs.field(f.name);
+    if (id < 0) {
+      if (dofs.fields.size() >= 32)
+        throw Error("domain \"" + domain + "\": more than 32 fields (" + dofs.field_list() + ")");
+      id = static_cast<int>(dofs.fields.size());
+      dofs.fields.push_back(f);
+    } else if (!(dofs.fields[static_cast<std::size_t>(id)] == f)) {
+      const Field& g = dofs.fields[static_cast<std::size_t>(id)];
+      throw Error("domain \"" + domain + "\": its element declares field \"" + f.name + "\" in " + f.unit +
+                  " (reaction " + f.reaction_unit + "), another domain's in " + g.unit + " (reaction " +
+                  g.reaction_unit + "); a field has one unit");
+    }
+    ids.push_back(id);
+  }
+}
+
+} // namespace
+
+void Model::layout_dofs() {
+  int dim = 2;
+  for (const Cell& c : mesh.cells) dim = std::max(dim, cell_dimension(c.type));
+  dofs.fields = displacement_fields(dim);
+  dofs.node_mask.assign(mesh.nodes.size(), 0u);
+  std::vector<int> ids;
+  for (const auto& dm : domains)
+    for (int c : dm.cells) {
+      const Cell& cell = mesh.cells[static_cast<std::size_t>(c)];
+      const NodeFields nf = dm.element->node_fields(cell.type, cell.shape());
+      field_ids(dofs, nf.fields, dm.name, ids);
+      std::size_t i = 0;
+      for (int n : cell.nodes) {
+        if (n < 0) continue;
+        const std::uint32_t carried = nf.at(i++);
+        for (std::size_t k = 0; k < ids.size(); ++k)
+          if ((carried >> k) & 1u) dofs.node_mask[static_cast<std::size_t>(n)] |= 1u << ids[k];
+      }
+    }
+  dofs.layout();
+}
+
+void Model::cell_dofs(const Domain& dm, int cell, std::vector<int>& out) const {
+  const Cell& c = mesh.cells[static_cast<std::size_t>(cell)];
+  const NodeFields nf = dm.element->node_fields(c.type, c.shape());
+  out.clear();
+  std::size_t i = 0;
+  for (int n : c.nodes) {
+    if (n < 0) continue;
+    const std::uint32_t carried = nf.at(i++);
+    for (std::size_t k = 0; k < nf.fields.size(); ++k)
+      if ((carried >> k) & 1u) out.push_back(dofs.dof(n, dofs.field(nf.fields[k].name)));
+  }
+}
+
+void Model::cell_nodes(int cell, std::vector<int>& nodes, Eigen::MatrixXd& x) const {
   nodes.clear();
   for (int n : mesh.cells[cell].nodes)
     if (n >= 0) nodes.push_back(n);
@@ -47,16 +128,20 @@ Eigen::VectorXd Model::restrict_free(const Eigen::VectorXd& full) const {
 }
 
 void Model::rebuild_dofs() {
+  const auto total = static_cast<std::size_t>(dofs.node_first.empty() ? 0 : dofs.node_first.back());
   std::vector<char> fixed(constrained);
-  fixed.resize(mesh.nodes.size() * DofMap::per_node, 0);
-  std::vector<char> used(mesh.nodes.size(), 0);
+  fixed.resize(total, 0);
+  std::vector<char> used(total, 0);
+  std::vector<int> ld;
   for (const auto& dm : domains)
     for (int c : dm.cells)
-      if (is_active(c))
-        for (int n : mesh.cells[c].nodes)
-          if (n >= 0) used[n] = 1;
-  for (std::size_t n = 0; n < used.size(); ++n)
-    if (!used[n]) fixed[2 * n] = fixed[2 * n + 1] = 1;
+      if (is_active(c)) {
+        cell_dofs(dm, c, ld);
+        for (int d : ld)
+          if (d >= 0) used[static_cast<std::size_t>(d)] = 1;
+      }
+  for (std::size_t d = 0; d < total; ++d)
+    if (!used[d]) fixed[d] = 1;
   dofs.build(fixed);
 }
 
@@ -70,69 +155,66 @@ bool Model::symmetric() const {
 
 Assembler::Assembler(const Model& model, bool reuse_linear_stiffness, int threads) {
   const int nf = model.dofs.free_count;
-  const auto nnodes = model.mesh.nodes.size();
-  // Node adjacency through cells of every domain, then the DOF pattern from it.
-  std::vector<std::vector<int>> adj(nnodes);
-  std::vector<int> nodes;
-  for (const auto& dm : model.domains)
-    for (int c : dm.cells) {
-      if (!model.is_active(c)) continue;
-      nodes.clear();
-      for (int n : model.mesh.cells[c].nodes)
-        if (n >= 0) nodes.push_back(n);
-      for (int a : nodes)
-        for (int b : nodes) adj[a].push_back(b);
+  // Each cell's global DOFs, then the pattern: column j holds the free rows of every active cell
+  // that has free DOF j.
+  dofs_.resize(model.domains.size());
+  dofs_start_.resize(model.domains.size());
+  std::vector<int> ld;
+  for (std::size_t di = 0; di < model.domains.size(); ++di) {
+    const auto& dm = model.domains[di];
+    dofs_start_[di].assign(dm.cells.size() + 1, 0);
+    for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
+      model.cell_dofs(dm, dm.cells[ci], ld);
+      dofs_[di].insert(dofs_[di].end(), ld.begin(), ld.end());
+      dofs_start_[di][ci + 1] = dofs_[di].size();
     }
-  for (auto& v : adj) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
   }
-  // Column-major pattern: column j (free DOF of node b) holds rows of free DOFs of nodes adjacent to b.
-  std::vector<int> col_node(nf), col_comp(nf);
-  for (std::size_t n = 0; n < nnodes; ++n)
-    for (int c = 0; c < DofMap::per_node; ++c) {
-      const int e = model.dofs.eq[n * DofMap::per_node + c];
-      if (e >= 0) col_node[e] = static_cast<int>(n), col_comp[e] = c;
+  std::vector<std::vector<int>> rows(static_cast<std::size_t>(nf));
+  std::vector<int> free;
+  for (std::size_t di = 0; di < model.domains.size(); ++di)
+    for (std::size_t ci = 0; ci < model.domains[di].cells.size(); ++ci) {
+      if (!model.is_active(model.domains[di].cells[ci])) continue;
+      free.clear();
+      for (std::size_t k = dofs_start_[di][ci]; k < dofs_start_[di][ci + 1]; ++k)
+        if (const int d = dofs_[di][k]; d >= 0 && model.dofs.eq[static_cast<std::size_t>(d)] >= 0)
+          free.push_back(model.dofs.eq[static_cast<std::size_t>(d)]);
+      for (int j : free)
+        rows[static_cast<std::size_t>(j)].insert(rows[static_cast<std::size_t>(j)].end(), free.begin(),
+                                                 free.end());
     }
   std::vector<int> outer(nf + 1, 0);
   for (int j = 0; j < nf; ++j) {
-    int count = 0;
-    for (int a : adj[col_node[j]])
-      for (int c = 0; c < DofMap::per_node; ++c) count += model.dofs.eq[a * DofMap::per_node + c] >= 0;
-    outer[j + 1] = outer[j] + count;
+    auto& v = rows[static_cast<std::size_t>(j)];
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    outer[j + 1] = outer[j] + static_cast<int>(v.size());
   }
-  std::vector<int> inner(outer[nf]);
-  for (int j = 0; j < nf; ++j) {
-    int k = outer[j];
-    for (int a : adj[col_node[j]])
-      for (int c = 0; c < DofMap::per_node; ++c) {
-        const int e = model.dofs.eq[a * DofMap::per_node + c];
-        if (e >= 0) inner[k++] = e;
-      }
-    std::sort(inner.begin() + outer[j], inner.begin() + outer[j + 1]);
+  std::vector<int> inner;
+  inner.reserve(static_cast<std::size_t>(outer[nf]));
+  for (auto& v : rows) {
+    inner.insert(inner.end(), v.begin(), v.end());
+    std::vector<int>().swap(v);
   }
   pattern_.resize(nf, nf);
   pattern_.resizeNonZeros(outer[nf]);
   std::copy(outer.begin(), outer.end(), pattern_.outerIndexPtr());
   std::copy(inner.begin(), inner.end(), pattern_.innerIndexPtr());
   std::fill(pattern_.valuePtr(), pattern_.valuePtr() + outer[nf], 0.0);
-  adj.clear();
-  adj.shrink_to_fit();
 
-  // Scatter indices: for each cell, (2n)^2 positions into the value array (column-major local order).
+  // Scatter indices: for each cell, n^2 positions (n local DOFs) into the value array
+  // (column-major local order).
   scatter_.resize(model.domains.size());
   scatter_start_.resize(model.domains.size());
   stiffness_.resize(model.domains.size());
   filled_.resize(model.domains.size());
-  std::vector<int> ldof;
   for (std::size_t di = 0; di < model.domains.size(); ++di) {
     const auto& dm = model.domains[di];
     auto& sc = scatter_[di];
     auto& st = scatter_start_[di];
     st.assign(dm.cells.size() + 1, 0);
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
-      const int n = model.mesh.cells[dm.cells[ci]].count() * DofMap::per_node;
-      st[ci + 1] = st[ci] + static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+      const std::size_t n = dofs_start_[di][ci + 1] - dofs_start_[di][ci];
+      st[ci + 1] = st[ci] + n * n;
     }
     sc.assign(st.back(), -1);
     if (reuse_linear_stiffness && dm.element->constant_stiffness(dm.law)) {
@@ -141,17 +223,14 @@ Assembler::Assembler(const Model& model, bool reuse_linear_stiffness, int thread
     }
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
       if (!model.is_active(dm.cells[ci])) continue;
-      ldof.clear();
-      for (int node : model.mesh.cells[dm.cells[ci]].nodes)
-        if (node >= 0)
-          for (int c = 0; c < DofMap::per_node; ++c)
-            ldof.push_back(model.dofs.eq[node * DofMap::per_node + c]);
-      const std::size_t n = ldof.size();
+      const int* g = dofs_[di].data() + dofs_start_[di][ci];
+      const std::size_t n = dofs_start_[di][ci + 1] - dofs_start_[di][ci];
+      auto eq = [&](std::size_t a) { return g[a] >= 0 ? model.dofs.eq[static_cast<std::size_t>(g[a])] : -1; };
       int* out = sc.data() + st[ci];
       for (std::size_t b = 0; b < n; ++b) {
-        const int col = ldof[b];
+        const int col = eq(b);
         for (std::size_t a = 0; a < n; ++a) {
-          const int row = ldof[a];
+          const int row = eq(a);
           int pos = -1;
           if (row >= 0 && col >= 0) {
             const int* begin = inner.data() + outer[col];
@@ -203,16 +282,15 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
       const int cell = dm.cells[ci];
       std::vector<int>& nodes = nodes_[t];
       model.cell_nodes(cell, nodes, sc.x);
-      const auto nd = static_cast<Eigen::Index>(nodes.size() * DofMap::per_node);
+      const int* g = dofs_[di].data() + dofs_start_[di][ci];
+      const auto nd = static_cast<Eigen::Index>(dofs_start_[di][ci + 1] - dofs_start_[di][ci]);
       sc.ue.resize(nd);
       sc.une.resize(nd);
-      for (std::size_t i = 0; i < nodes.size(); ++i)
-        for (int c = 0; c < DofMap::per_node; ++c) {
-          const auto g = static_cast<Eigen::Index>(nodes[i]) * DofMap::per_node + c;
-          sc.ue[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = u[g];
-          sc.une[static_cast<Eigen::Index>(i) * DofMap::per_node + c] = model.u[g];
-        }
-      const ElementData data{cell, model.mesh.cells[cell].shape(), &sc.x};
+      for (Eigen::Index i = 0; i < nd; ++i) {
+        sc.ue[i] = u[g[i]];
+        sc.une[i] = model.u[g[i]];
+      }
+      const ElementData data = model.element_data(cell, sc.x);
       const bool cached = k && !filled_[di].empty() && filled_[di][ci];
       outcomes_[t] = dm.element->compute(data, sc.ue, sc.une, dm.law, dm.states, dm.first_point[ci],
                                          k && !cached, results_[t]);
@@ -228,8 +306,8 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
       if (!outcomes_[t].ok()) return outcomes_[t]; // the first failing cell in cell order
       const auto [di, ci] = tasks_[first + t];
       const ElementResult& res = results_[t];
-      const std::vector<int>& nodes = nodes_[t];
-      const auto nd = static_cast<std::size_t>(nodes.size() * DofMap::per_node);
+      const int* g = dofs_[di].data() + dofs_start_[di][ci];
+      const std::size_t nd = dofs_start_[di][ci + 1] - dofs_start_[di][ci];
       const std::size_t n2 = nd * nd;
       const std::size_t start = scatter_start_[di][ci];
       const bool cached = k && !filled_[di].empty() && filled_[di][ci];
@@ -237,10 +315,7 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
         std::copy(res.stiffness.data(), res.stiffness.data() + n2, stiffness_[di].data() + start);
         filled_[di][ci] = 1;
       }
-      for (std::size_t i = 0; i < nodes.size(); ++i)
-        for (int c = 0; c < DofMap::per_node; ++c)
-          f_int[static_cast<Eigen::Index>(nodes[i]) * DofMap::per_node + c] +=
-              res.force[static_cast<Eigen::Index>(i) * DofMap::per_node + c];
+      for (std::size_t i = 0; i < nd; ++i) f_int[g[i]] += res.force[static_cast<Eigen::Index>(i)];
       if (k) {
         const int* pos = scatter_[di].data() + start;
         // column-major, matches the scatter order
@@ -254,13 +329,14 @@ Outcome Assembler::assemble(Model& model, const Eigen::VectorXd& u, Eigen::Vecto
   return {};
 }
 
-void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges,
-                       const std::function<double(const Eigen::Vector2d&)>& p, Formulation f,
-                       Eigen::VectorXd& out) {
+void add_edge_pressure(const Model& model, const std::vector<Edge>& edges,
+                       const std::function<double(const Eigen::Vector2d&)>& p, Eigen::VectorXd& out) {
   // 4-point Gauss-Legendre on [-1, 1]: exact for the polynomial integrands of straight and
   // parabolic edges with the 2 pi r weight.
   constexpr double g[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
   constexpr double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
+  const Mesh& mesh = model.mesh;
+  const int ux = model.dofs.field("ux"), uy = model.dofs.field("uy");
   for (const Edge& e : edges) {
     const int ids[3] = {e.a, e.b, e.mid};
     const int n = e.mid >= 0 ? 3 : 2;
@@ -281,20 +357,21 @@ void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges,
       }
       // Outward normal times the line Jacobian: (t_y, -t_x); the pressure acts along -normal.
       const Eigen::Vector2d nds(t.y(), -t.x());
-      const double weight = w[q] * (f == Formulation::axisymmetric ? 2 * std::numbers::pi * xq.x() : 1.0);
+      const double weight =
+          w[q] * (model.formulation == Formulation::axisymmetric ? 2 * std::numbers::pi * xq.x() : 1.0);
       const double pq = p(xq);
       for (int a = 0; a < n; ++a) {
-        out[ids[a] * 2 + 0] += -pq * N[a] * nds.x() * weight;
-        out[ids[a] * 2 + 1] += -pq * N[a] * nds.y() * weight;
+        const int dx = model.dofs.dof(ids[a], ux), dy = model.dofs.dof(ids[a], uy);
+        if (dx >= 0) out[dx] += -pq * N[a] * nds.x() * weight;
+        if (dy >= 0) out[dy] += -pq * N[a] * nds.y() * weight;
       }
     }
   }
 }
 
-void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f,
-                       Eigen::VectorXd& out) {
+void add_edge_pressure(const Model& model, const std::vector<Edge>& edges, double p, Eigen::VectorXd& out) {
   add_edge_pressure(
-      mesh, edges, [p](const Eigen::Vector2d&) { return p; }, f, out);
+      model, edges, [p](const Eigen::Vector2d&) { return p; }, out);
 }
 
 } // namespace stratum

@@ -219,24 +219,24 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
   if (kind_ == "node" || kind_ == "nodes") {
     double u[2] = {0, 0}, f[2] = {0, 0};
     for (int n : nodes_)
-      for (int k = 0; k < 2; ++k) {
-        u[k] += m.u[2 * n + k];
-        f[k] += reaction(2 * n + k);
-      }
+      for (int k = 0; k < 2; ++k)
+        if (const int d = m.dofs.dof(n, field_ux + k); d >= 0) {
+          u[k] += m.u[d];
+          f[k] += reaction(d);
+        }
     const double count = static_cast<double>(std::max<std::size_t>(nodes_.size(), 1));
     v = {u[0] / count, u[1] / count, f[0], f[1]};
   } else if (kind_ == "point") {
     double best = std::numeric_limits<double>::infinity();
     v.assign(11, std::numeric_limits<double>::quiet_NaN());
     std::vector<int> nodes;
-    Eigen::MatrixX2d x, xp;
+    Eigen::MatrixXd x, xp;
     for (const auto& dm : m.domains)
       for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
         const int c = dm.cells[ci];
         if (!m.is_active(c) || !dm.element) continue;
         m.cell_nodes(c, nodes, x);
-        dm.element->point_coordinates(ElementData{c, m.mesh.cells[static_cast<std::size_t>(c)].shape(), &x},
-                                      xp);
+        dm.element->point_coordinates(m.element_data(c, x), xp);
         for (Eigen::Index q = 0; q < xp.rows(); ++q) {
           const double d = std::hypot(xp(q, 0) - at_[0], xp(q, 1) - at_[1]);
           if (!(d < best)) continue;

@@ -222,7 +222,7 @@ std::string pvd_text(const std::vector<std::pair<double, std::string>>& entries)
 }
 
 /// Throws Error when the field does not hold `tuples` tuples of its component count.
-void check_field(const Field& f, std::size_t tuples, const char* kind, const char* per) {
+void check_field(const OutputArray& f, std::size_t tuples, const char* kind, const char* per) {
   if (f.name.empty()) throw Error(std::string("VTK output: a ") + kind + " field has no name");
   if (f.components < 1) {
     throw Error(std::string("VTK output: ") + kind + " field '" + f.name + "' has " +
@@ -236,7 +236,7 @@ void check_field(const Field& f, std::size_t tuples, const char* kind, const cha
   }
 }
 
-vtkSmartPointer<vtkDoubleArray> make_array(const Field& f) {
+vtkSmartPointer<vtkDoubleArray> make_array(const OutputArray& f) {
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
   a->SetName(f.name.c_str());
   a->SetNumberOfComponents(f.components);
@@ -249,7 +249,7 @@ vtkSmartPointer<vtkDoubleArray> make_array(const Field& f) {
   return a;
 }
 
-/// The step's field data: one-tuple arrays (ParaView: "Field Data").
+/// The step's field data: one-tuple arrays (ParaView: "OutputArray Data").
 void add_field_data(vtkDataObject& data, const OutputStep& step, double time) {
   vtkFieldData* fd = data.GetFieldData();
   {
@@ -305,12 +305,12 @@ int vtk_cell(const Cell& c, int index, std::size_t num_nodes, unsigned char& typ
     }
   }
   const unsigned shape = c.shape();
-  if (c.kind == CellKind::node_pair) { // the two coincident nodes (slots 2, 3 are geometry only)
+  if (c.type == CellType::node_pair) { // the two coincident nodes (slots 2, 3 are geometry only)
     type = VTK_LINE;
     ids[0] = c.nodes[0], ids[1] = c.nodes[1];
     return 2;
   }
-  if (c.kind == CellKind::line_interface && shape == 0x5Fu) { // 3 + 3 nodes
+  if (c.type == CellType::line_interface && shape == 0x5Fu) { // 3 + 3 nodes
     type = VTK_QUADRATIC_LINEAR_QUAD;
     for (int s = 0; s < 4; ++s) ids[s] = c.nodes[s];
     ids[4] = c.nodes[4], ids[5] = c.nodes[6];
@@ -381,8 +381,8 @@ vtkSmartPointer<vtkUnstructuredGrid> make_grid(const OutputStep& step, double ti
   cells->SetData(offsets, connectivity);
   grid->SetCells(types, cells);
 
-  for (const Field& f : step.point_fields) grid->GetPointData()->AddArray(make_array(f));
-  for (const Field& f : step.cell_fields) grid->GetCellData()->AddArray(make_array(f));
+  for (const OutputArray& f : step.point_fields) grid->GetPointData()->AddArray(make_array(f));
+  for (const OutputArray& f : step.cell_fields) grid->GetCellData()->AddArray(make_array(f));
   add_field_data(*grid, step, time);
   return grid;
 }
@@ -407,7 +407,7 @@ vtkSmartPointer<vtkPolyData> make_point_cloud(const OutputStep& step, double tim
   verts->SetData(offsets, connectivity);
   cloud->SetVerts(verts);
 
-  for (const Field& f : step.ip_fields) cloud->GetPointData()->AddArray(make_array(f));
+  for (const OutputArray& f : step.ip_fields) cloud->GetPointData()->AddArray(make_array(f));
   add_field_data(*cloud, step, time);
   return cloud;
 }
@@ -437,10 +437,10 @@ void VtkSeriesWriter::write(const OutputStep& step) {
   const Mesh& mesh = *step.mesh;
 
   // Validate everything before touching the disk.
-  for (const Field& f : step.point_fields) check_field(f, mesh.nodes.size(), "point", "nodes");
-  for (const Field& f : step.cell_fields) check_field(f, step.cells.size(), "cell", "cells");
+  for (const OutputArray& f : step.point_fields) check_field(f, mesh.nodes.size(), "point", "nodes");
+  for (const OutputArray& f : step.cell_fields) check_field(f, step.cells.size(), "cell", "cells");
   const auto num_ip = static_cast<std::size_t>(step.ip_coords.rows());
-  for (const Field& f : step.ip_fields) check_field(f, num_ip, "integration point", "points");
+  for (const OutputArray& f : step.ip_fields) check_field(f, num_ip, "integration point", "points");
 
   const fs::path dir(dir_);
   {

@@ -1,7 +1,7 @@
 // Interface elements: the two-node contact element (contact2), the zero-thickness line
 // interface (interface_line) and the thin-layer element (thin_layer). Header-only so that the
 // tests run exactly the plugin's code; interface_elements.cpp only adds the factories.
-// Equations and conventions: README.md in this folder; cell layouts: CellKind in stratum/mesh.hpp.
+// Equations and conventions: README.md in this folder; cell layouts: CellType in stratum/cell_type.hpp.
 //
 // Interface points store (in the framework's StateStore slot) the traction (shear, normal) in
 // stress[0..1] and the jump (slip, opening) in strain[0..1]; the ContactLaw's history follows.
@@ -150,10 +150,10 @@ public:
     return {};
   }
 
-  void body_force(const ElementData& cell, const Vec2& /*b*/, Eigen::VectorXd& f) const override {
+  void body_force(const ElementData& cell, const Eigen::VectorXd& /*b*/, Eigen::VectorXd& f) const override {
     f.setZero(2 * cell.x->rows());
   }
-  void point_coordinates(const ElementData& cell, Eigen::MatrixX2d& xp) const override {
+  void point_coordinates(const ElementData& cell, Eigen::MatrixXd& xp) const override {
     xp = cell.x->topRows(1);
   }
   void point_weights(const ElementData& /*cell*/, Eigen::VectorXd& w) const override { w.setOnes(1); }
@@ -225,7 +225,7 @@ public:
   /// Newton-Cotes weight of node k: the integral of N_k over the edge (with 2 pi r in axisymmetry),
   /// i.e. the row sum of the consistent matrix. In plane strain this is the trapezoid / Simpson
   /// rule; in axisymmetry it keeps nodal integration exact for a uniform traction.
-  [[nodiscard]] double nodal_weight(const Eigen::MatrixX2d& X, int n, int k) const {
+  [[nodiscard]] double nodal_weight(const Eigen::MatrixXd& X, int n, int k) const {
     const std::array<int, 3> side1{0, 1, 4};
     const double g = std::sqrt(0.6);
     const std::array<double, 3> xg{-g, 0.0, g}, wg{5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
@@ -291,10 +291,10 @@ public:
     return {};
   }
 
-  void body_force(const ElementData& cell, const Vec2& /*b*/, Eigen::VectorXd& f) const override {
+  void body_force(const ElementData& cell, const Eigen::VectorXd& /*b*/, Eigen::VectorXd& f) const override {
     f.setZero(2 * cell.x->rows());
   }
-  void point_coordinates(const ElementData& cell, Eigen::MatrixX2d& xp) const override {
+  void point_coordinates(const ElementData& cell, Eigen::MatrixXd& xp) const override {
     const auto& X = *cell.x;
     const int n = X.rows() == 6 ? 3 : 2;
     const std::array<int, 3> side1{0, 1, 4};
@@ -330,7 +330,7 @@ public:
       : quad_(o), min_(min_ratio), max_(max_ratio) {}
 
   /// t / b of a cell from its corners.
-  static double thickness_ratio(const Eigen::MatrixX2d& X) {
+  static double thickness_ratio(const Eigen::MatrixXd& X) {
     const Vec2 m01 = 0.5 * (X.row(0) + X.row(1)).transpose(), m23 = 0.5 * (X.row(2) + X.row(3)).transpose();
     const Vec2 m12 = 0.5 * (X.row(1) + X.row(2)).transpose(), m30 = 0.5 * (X.row(3) + X.row(0)).transpose();
     const double a = (m23 - m01).norm(), b = (m30 - m12).norm();
@@ -356,10 +356,10 @@ public:
                                 bool want_tangent, ElementResult& out) const override {
     return quad_.compute(cell, u, u_n, law, states, first_point, want_tangent, out);
   }
-  void body_force(const ElementData& cell, const Vec2& b, Eigen::VectorXd& f) const override {
+  void body_force(const ElementData& cell, const Eigen::VectorXd& b, Eigen::VectorXd& f) const override {
     quad_.body_force(cell, b, f);
   }
-  void point_coordinates(const ElementData& cell, Eigen::MatrixX2d& xp) const override {
+  void point_coordinates(const ElementData& cell, Eigen::MatrixXd& xp) const override {
     quad_.point_coordinates(cell, xp);
   }
   void point_weights(const ElementData& cell, Eigen::VectorXd& w) const override {

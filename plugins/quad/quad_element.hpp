@@ -201,7 +201,7 @@ public:
 
   /// Consistent nodal forces N^T b integrated with the element's rule. Throws
   /// stratum::Error for a cell with a non-positive Jacobian (or radius) at a point.
-  void body_force(const ElementData& cell, const Vec2& b, Eigen::VectorXd& f) const override {
+  void body_force(const ElementData& cell, const Eigen::VectorXd& b, Eigen::VectorXd& f) const override {
     const int n = check_cell(cell);
     f.setZero(2 * n);
     detail::with_node_count(n, [&](auto nn) {
@@ -217,7 +217,7 @@ public:
     });
   }
 
-  void point_coordinates(const ElementData& cell, Eigen::MatrixX2d& xp) const override {
+  void point_coordinates(const ElementData& cell, Eigen::MatrixXd& xp) const override {
     const int n = check_cell(cell);
     const auto& pts = rule_.points(cell.shape);
     xp.resize(rule_.size(), 2);

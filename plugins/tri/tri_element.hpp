@@ -70,7 +70,7 @@ struct RulePoint {
 /// With the area coordinates L0 = 1 - xi - eta, L1 = xi, L2 = eta:
 ///  3 nodes: N_i = L_i;
 ///  6 nodes: corners N_i = L_i (2 L_i - 1), midside 4 N_4 = 4 L0 L1, N_5 = 4 L1 L2, N_6 = 4 L2 L0.
-inline void shape_functions(int nodes, double xi, double eta, Eigen::VectorXd& N, Eigen::MatrixX2d& dN) {
+inline void shape_functions(int nodes, double xi, double eta, Eigen::VectorXd& N, Eigen::MatrixXd& dN) {
   const std::array<double, 3> L{1.0 - xi - eta, xi, eta};
   const std::array<std::array<double, 2>, 3> dL{{{-1.0, -1.0}, {1.0, 0.0}, {0.0, 1.0}}};
   N.resize(nodes);
@@ -138,7 +138,7 @@ public:
 
   /// Every integration point must have a positive Jacobian (and, in axisymmetry, radius).
   void check_geometry(const ElementData& cell) const override {
-    const Eigen::MatrixX2d& X = *cell.x;
+    const Eigen::MatrixXd& X = *cell.x;
     for (std::size_t i = 0; i < table_.size(); ++i) {
       Point g;
       if (!evaluate(table_[i], X, g))
@@ -160,7 +160,7 @@ public:
                                                             " element needs a Material (none was given)");
     const Material& material = *law.material;
     const bool axi = axisymmetric();
-    const Eigen::MatrixX2d& X = *cell.x;
+    const Eigen::MatrixXd& X = *cell.x;
     const Eigen::VectorXd du = u - u_n;
     Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * n);
     Eigen::MatrixXd K;
@@ -198,7 +198,7 @@ public:
   }
 
   /// Consistent nodal forces N^T b integrated with the element's rule.
-  void body_force(const ElementData& cell, const Vec2& b, Eigen::VectorXd& f) const override {
+  void body_force(const ElementData& cell, const Eigen::VectorXd& b, Eigen::VectorXd& f) const override {
     const int n = check_cell(cell);
     f.setZero(2 * n);
     Point g;
@@ -209,7 +209,7 @@ public:
     }
   }
 
-  void point_coordinates(const ElementData& cell, Eigen::MatrixX2d& xp) const override {
+  void point_coordinates(const ElementData& cell, Eigen::MatrixXd& xp) const override {
     check_cell(cell);
     xp.resize(static_cast<Eigen::Index>(table_.size()), 2);
     for (std::size_t i = 0; i < table_.size(); ++i)
@@ -235,11 +235,11 @@ public:
 private:
   struct Table {
     Eigen::VectorXd N;
-    Eigen::MatrixX2d dN; ///< d/dxi, d/deta
+    Eigen::MatrixXd dN; ///< d/dxi, d/deta
     double weight = 0.0;
   };
   struct Point {
-    Eigen::MatrixX2d dNdx;
+    Eigen::MatrixXd dNdx;
     const Eigen::VectorXd* N = nullptr;
     double x = 0.0, detJ = 0.0, dV = 0.0;
   };
@@ -276,7 +276,7 @@ private:
   }
 
   /// Geometry at one point; false when detJ (or, in axisymmetry, the radius) is not positive.
-  bool evaluate(const Table& t, const Eigen::MatrixX2d& X, Point& g) const {
+  bool evaluate(const Table& t, const Eigen::MatrixXd& X, Point& g) const {
     const Eigen::Matrix2d J = t.dN.transpose() * X; // J(a, b) = d x_b / d xi_a
     g.N = &t.N;
     g.detJ = J.determinant();

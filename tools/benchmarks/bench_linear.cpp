@@ -176,7 +176,7 @@ Sample measure(const Size& s, const std::string& plugin_dir) {
     r.assembly = seconds_since(t);
     // Loads enter the model when run() starts a stage: form the pressure's nodal forces here.
     Eigen::VectorXd f_ext = Eigen::VectorXd::Zero(m.dofs.total());
-    stratum::add_edge_pressure(m.mesh, m.mesh.edge_sets.at("ring.left"), pressure, m.formulation, f_ext);
+    stratum::add_edge_pressure(m, m.mesh.edge_sets.at("ring.left"), pressure, f_ext);
     const Eigen::VectorXd rhs = m.restrict_free(f_ext - f_int);
 
     auto ls = stratum::make_linear_solver("cholmod", true, r.free);

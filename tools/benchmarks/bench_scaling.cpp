@@ -292,7 +292,7 @@ Sample measure(Problem problem, const Size& s, const std::string& plugin_dir, do
     if (edges == m.mesh.edge_sets.end()) throw stratum::Error("bench_scaling: no edge set ring.left");
     m.load_base = Eigen::VectorXd::Zero(m.dofs.total());
     m.load_ref = Eigen::VectorXd::Zero(m.dofs.total());
-    stratum::add_edge_pressure(m.mesh, edges->second, pressure(problem), m.formulation, m.load_ref);
+    stratum::add_edge_pressure(m, edges->second, pressure(problem), m.load_ref);
   }
 
   // The decorators (and their clock) live in this scope; the original materials are put back

@@ -19,8 +19,8 @@ namespace stratum {
 
 /// Which interface cells split_interface() creates.
 enum class InterfaceCells {
-  node_pairs, ///< one CellKind::node_pair cell per duplicated node (two-node contact elements)
-  line,       ///< one CellKind::line_interface cell per edge (2 + 2 or 3 + 3 nodes)
+  node_pairs, ///< one CellType::node_pair cell per duplicated node (two-node contact elements)
+  line,       ///< one CellType::line_interface cell per edge (2 + 2 or 3 + 3 nodes)
 };
 
 /// What split_interface() did to the mesh.
@@ -61,6 +61,6 @@ void write_interface_csv(const std::vector<InterfacePoint>& points, const std::s
 /// Integration-point fields over every domain of the model in output order (domains, cells,
 /// points): "interface_traction" (shear, normal), "interface_jump" (slip, opening) and
 /// "interface_status" (0 stick, 1 slip, 2 open; -1 at continuum points).
-void append_interface_fields(const Model& model, std::vector<Field>& ip_fields);
+void append_interface_fields(const Model& model, std::vector<OutputArray>& ip_fields);
 
 } // namespace stratum

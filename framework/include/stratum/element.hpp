@@ -7,12 +7,15 @@
 // the Material (or ContactLaw) at each point. It never writes files and never
 // sees stages or TOML.
 //
-// Local DOF order: 2 per present node (x then y; axisymmetric r then z), nodes
-// in slot order (see ElementData). Units: m, kN, kPa.
+// Local DOF order: node by node in slot order, and within a node the fields it carries in the
+// order the element declares them (node_fields; stratum/fields.hpp); for the default, the
+// displacement components, x then y (axisymmetric r then z) (then z in 3D). Units: m, kN, kPa.
 #pragma once
 
+#include "stratum/cell_type.hpp"
 #include "stratum/contact_law.hpp"
 #include "stratum/error.hpp"
+#include "stratum/fields.hpp"
 #include "stratum/material.hpp"
 #include "stratum/state_store.hpp"
 
@@ -20,21 +23,22 @@
 
 namespace stratum {
 
-enum class Formulation { plane_strain, axisymmetric };
+/// How a continuum element maps its cell: plane strain and axisymmetry (x = r, y = z) on
+/// two-dimensional cells, three_d on three-dimensional ones.
+enum class Formulation { plane_strain, axisymmetric, three_d };
 
 /// The geometry of one cell as an element sees it.
 ///
-/// `shape` is a bitmask of the node slots that are present. Quadrilateral
-/// family (thesis numbering): slots 0-3 are the corners counter-clockwise,
-/// slot 4 the midside node of edge 0-1, 5 of 1-2, 6 of 2-3, 7 of 3-0.
-/// Rows of `x` are the present nodes in slot order (corners first), so a
-/// 4-node quad has shape 0x0F and 4 rows, an 8-node quad 0xFF and 8 rows.
-/// A triangle leaves slots 3 and 7 empty: corners 0-2, midside 4 (edge 0-1),
-/// 5 (1-2), 6 (2-0); shape 0x07 (3 nodes) or 0x77 (6 nodes).
+/// `type` and `shape` say what the cell is (stratum/cell_type.hpp: the type's slot numbering and
+/// the bitmask of the present slots); rows of `x` are the present nodes in slot order, columns
+/// their coordinates (2 in a plane or axisymmetric model, 3 in a three-dimensional one). A 4-node
+/// quadrilateral has shape 0x0F and 4 rows, an 8-node one 0xFF and 8 rows; a triangle leaves
+/// slots 3 and 7 empty (shape 0x07 or 0x77); a hexahedron has shape 0xFF and 8 rows of 3.
 struct ElementData {
-  int id = -1;               ///< global cell index (for messages)
-  unsigned shape = 0;        ///< present node slots
-  const Eigen::MatrixX2d* x; ///< coordinates of the present nodes, n x 2
+  int id = -1;                        ///< global cell index (for messages)
+  unsigned shape = 0;                 ///< present node slots
+  const Eigen::MatrixXd* x = nullptr; ///< coordinates of the present nodes, n x dim
+  CellType type = CellType::quadrilateral;
 };
 
 /// The constitutive law of the element's domain: exactly one is set.
@@ -44,8 +48,9 @@ struct Constitutive {
 };
 
 struct ElementResult {
-  Eigen::VectorXd force;     ///< internal force, 2n (kN; per radian x 2 pi in axisymmetry: see quad README)
-  Eigen::MatrixXd stiffness; ///< tangent d force / d u, 2n x 2n (only when requested)
+  Eigen::VectorXd
+      force; ///< internal force (kN for a displacement; axisymmetric: the full circle), local order
+  Eigen::MatrixXd stiffness; ///< tangent d force / d u in the local order (only when requested)
 };
 
 /// The cells an element is made for: the area cells of a [[domains]] entry, or the cells an
@@ -64,6 +69,28 @@ public:
   /// [[interfaces]] entry, and refuses an interface element in [[domains]] and the other way round.
   [[nodiscard]] virtual ElementCells cells() const { return ElementCells::area; }
 
+  /// True when the element works on cells of this type. The default: the two-dimensional
+  /// continuum types (quadrilateral, triangle) for an area element, node pairs and interface
+  /// lines for the interface kinds. The scene reader refuses a domain cell of another type.
+  [[nodiscard]] virtual bool accepts(CellType type) const {
+    switch (cells()) {
+    case ElementCells::node_pairs:
+      return type == CellType::node_pair;
+    case ElementCells::interface_lines:
+      return type == CellType::line_interface;
+    case ElementCells::area:
+      break;
+    }
+    return type == CellType::quadrilateral || type == CellType::triangle;
+  }
+
+  /// The unknowns the nodes of a cell of this type and shape carry (stratum/fields.hpp), which
+  /// also fixes the local order of u, force and stiffness. The default: the displacement
+  /// components of the cell's dimension at every node.
+  [[nodiscard]] virtual NodeFields node_fields(CellType type, unsigned /*shape*/) const {
+    return NodeFields{displacement_fields(cell_dimension(type)), {}};
+  }
+
   /// Number of integration points (each with a StateStore slot) of a cell of this shape.
   [[nodiscard]] virtual int num_points(unsigned shape) const = 0;
 
@@ -75,18 +102,19 @@ public:
   virtual void check_geometry(const ElementData& /*cell*/) const {}
 
   /// Internal force and (when want_tangent) tangent at the trial displacement u.
-  /// u and u_n are the total trial and committed displacements of the cell's DOFs.
+  /// u and u_n are the total trial and committed values of the cell's unknowns (local order).
   /// Reads states.committed(first_point + i), writes states.trial(first_point + i).
   [[nodiscard]] virtual Outcome compute(const ElementData& cell, const Eigen::VectorXd& u,
                                         const Eigen::VectorXd& u_n, const Constitutive& law,
                                         StateStore& states, std::size_t first_point, bool want_tangent,
                                         ElementResult& out) const = 0;
 
-  /// Consistent nodal forces of a body force b (kN/m3, e.g. (0, -gamma)).
-  virtual void body_force(const ElementData& cell, const Vec2& b, Eigen::VectorXd& f) const = 0;
+  /// Consistent nodal forces of a body force b (kN/m3, one component per dimension, e.g.
+  /// (0, -gamma)), in the local order (zero at unknowns that are not displacements).
+  virtual void body_force(const ElementData& cell, const Eigen::VectorXd& b, Eigen::VectorXd& f) const = 0;
 
-  /// Coordinates of the integration points, num_points x 2 (for point-cloud output).
-  virtual void point_coordinates(const ElementData& cell, Eigen::MatrixX2d& xp) const = 0;
+  /// Coordinates of the integration points, num_points x dim (for point-cloud output).
+  virtual void point_coordinates(const ElementData& cell, Eigen::MatrixXd& xp) const = 0;
 
   /// Weight of each integration point in a cell average (for cell output), sums to 1.
   virtual void point_weights(const ElementData& cell, Eigen::VectorXd& w) const = 0;

@@ -3,6 +3,7 @@
 // Coordinates in m. Axisymmetric: x = r (radius, >= 0), y = z (vertical, up).
 #pragma once
 
+#include "stratum/cell_type.hpp"
 #include "stratum/error.hpp"
 
 #include <Eigen/Core>
@@ -15,27 +16,17 @@
 
 namespace stratum {
 
-/// What a cell is geometrically (for checks and output; elements only see its nodes).
-///  * solid: a quadrilateral of the continuum (slots as below), or a triangle: slots 3 and 7
-///    empty, corners 0 1 2 counter-clockwise, midside 4 (edge 0-1), 5 (1-2), 6 (2-0);
-///  * node_pair: a two-node contact cell (stratum/body_interfaces.hpp): slot 0 the node of body 1,
-///    slot 1 its coincident partner of body 2, slots 2 and 3 the body-1 nodes before and after
-///    slot 0 along the interface (slot 0 itself at an end), for the direction and tributary length;
-///  * line_interface: a zero-thickness quadrilateral: slots 0, 1 (and midside 4) on body 1, slots
-///    2, 3 (and midside 6) on body 2, slot 3 coincident with 0, 2 with 1, 6 with 4.
-enum class CellKind : std::uint8_t { solid = 0, node_pair = 1, line_interface = 2 };
-
-/// A cell: up to 8 node slots, -1 for an absent slot. For the quadrilateral
-/// family the slots follow element.hpp (0-3 corners counter-clockwise, 4-7 midside).
+/// A cell: its type and up to max_cell_slots node slots in the type's numbering
+/// (stratum/cell_type.hpp), -1 for an absent slot.
 struct Cell {
-  std::array<int, 8> nodes{-1, -1, -1, -1, -1, -1, -1, -1};
-  CellKind kind = CellKind::solid;
+  std::array<int, max_cell_slots> nodes{-1, -1, -1, -1, -1, -1, -1, -1};
+  CellType type = CellType::quadrilateral;
 
   /// Bitmask of the present slots.
   [[nodiscard]] unsigned shape() const {
     unsigned s = 0;
-    for (int i = 0; i < 8; ++i)
-      if (nodes[i] >= 0) s |= 1u << i;
+    for (int i = 0; i < max_cell_slots; ++i)
+      if (nodes[static_cast<std::size_t>(i)] >= 0) s |= 1u << i;
     return s;
   }
   [[nodiscard]] int count() const {

@@ -4,26 +4,49 @@
 #pragma once
 
 #include "stratum/element.hpp"
+#include "stratum/fields.hpp"
 #include "stratum/linear_solver.hpp"
 #include "stratum/mesh.hpp"
 #include "stratum/state_store.hpp"
 
+#include <bit>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace stratum {
 
-/// Two DOFs per node (x, y; axisymmetric r, z). eq[2 * node + c] >= 0 is the
-/// index of a free unknown, eq < 0 is prescribed index (-1 - eq).
+/// The unknowns of the model, numbered from the fields its elements declare (stratum/fields.hpp).
+///
+/// Layout: node by node (interleaved), and within a node the fields it carries in the model's
+/// field order; the displacement components of the mesh's dimension are always fields 0..dim-1
+/// ("ux", "uy"(, "uz")), so a model of displacement elements numbers "dim per node".
+/// eq[d] >= 0 is the index of global DOF d among the free unknowns, eq[d] < 0 the prescribed
+/// index (-1 - eq[d]).
 struct DofMap {
-  static constexpr int per_node = 2;
+  std::vector<Field> fields;            ///< the model's fields; a field's id is its index
+  std::vector<int> node_first;          ///< per node, its first global DOF; size nodes + 1
+  std::vector<std::uint32_t> node_mask; ///< per node, bit f set when it carries field f
   std::vector<int> eq;
   std::vector<int> prescribed; ///< global DOF of each prescribed index
   int free_count = 0;
 
-  /// `fixed[d]` marks prescribed global DOFs (nodes no active cell uses are fixed too).
+  /// Global DOF of field `field` at `node`, -1 when the node does not carry it.
+  [[nodiscard]] int dof(int node, int field) const {
+    const std::uint32_t m = node_mask[static_cast<std::size_t>(node)];
+    if (field < 0 || field >= 32 || !((m >> field) & 1u)) return -1;
+    return node_first[static_cast<std::size_t>(node)] + std::popcount(m & ((1u << field) - 1u));
+  }
+  /// The id of the field called `name`, -1 when the model has none.
+  [[nodiscard]] int field(std::string_view name) const;
+  /// The names of the model's fields, comma-separated (for messages).
+  [[nodiscard]] std::string field_list() const;
+  /// Numbers the DOFs from per-node masks (node_mask set by the caller): fills node_first.
+  void layout();
+  /// `fixed[d]` marks prescribed global DOFs.
   void build(const std::vector<char>& fixed);
   [[nodiscard]] int total() const { return static_cast<int>(eq.size()); }
 };
@@ -56,13 +79,28 @@ struct Model {
   std::vector<char> active;      ///< per cell: 1 when the cell takes part (stages deactivate cells)
   std::vector<char> constrained; ///< per DOF: 1 when a constraint holds it
 
-  /// Rebuilds the DOF map: constrained DOFs and the DOFs of nodes no active cell uses are fixed.
+  /// Numbers the unknowns from the fields the domains' elements declare for their cells (every
+  /// cell, active or not, so that the numbering does not change with the stages). Called once
+  /// the domains and interfaces are built; throws Error when two elements declare a field of one
+  /// name with different units.
+  void layout_dofs();
+  /// Rebuilds the free/prescribed split: constrained DOFs and DOFs no active cell uses are fixed.
   void rebuild_dofs();
+  /// The global DOFs of a cell's local unknowns in the element's order (stratum/fields.hpp), -1
+  /// for none; the domain's element declares them.
+  void cell_dofs(const Domain& dm, int cell, std::vector<int>& dofs) const;
+  /// What an element sees of a cell: its index, type, present slots and the coordinates x.
+  [[nodiscard]] ElementData element_data(int cell, const Eigen::MatrixXd& x) const {
+    const Cell& c = mesh.cells[static_cast<std::size_t>(cell)];
+    return ElementData{cell, c.shape(), &x, c.type};
+  }
+  /// The number of displacement components (2, or 3 when the model has field uz).
+  [[nodiscard]] int dim() const { return dofs.field("uz") == field_uz ? 3 : 2; }
   [[nodiscard]] bool is_active(int cell) const { return active.empty() || active[cell] != 0; }
 
   /// Present nodes of a cell in slot order, and their coordinates.
-  void cell_nodes(int cell, std::vector<int>& nodes, Eigen::MatrixX2d& x) const;
-  /// Full-size displacement from free unknowns and the prescribed values at load factor lambda.
+  void cell_nodes(int cell, std::vector<int>& nodes, Eigen::MatrixXd& x) const;
+  /// Full-size vector of unknowns from free unknowns and the prescribed values at load factor lambda.
   void expand(const Eigen::VectorXd& free, double lambda, Eigen::VectorXd& full) const;
   /// Free unknowns of a full-size vector.
   [[nodiscard]] Eigen::VectorXd restrict_free(const Eigen::VectorXd& full) const;
@@ -97,7 +135,7 @@ public:
 private:
   SparseMatrix pattern_;
   std::vector<std::vector<int>>
-      scatter_; ///< per domain: concatenated per-cell (2n)^2 value indices, -1 = skip
+      scatter_; ///< per domain: concatenated per-cell (local DOFs)^2 value indices, -1 = skip
   std::vector<std::vector<std::size_t>> scatter_start_;
   /// Per domain whose element reports constant_stiffness: the cells' stiffness matrices
   /// (same layout as scatter_), computed at the first assembly with a tangent and reused for
@@ -107,11 +145,15 @@ private:
   mutable std::vector<std::vector<char>> filled_;
   /// The active cells in summation order: (domain, index in the domain).
   std::vector<std::pair<std::size_t, std::size_t>> tasks_;
+  /// Per domain: the concatenated global DOFs of each cell's local unknowns (Model::cell_dofs),
+  /// and where each cell's list starts (size cells + 1).
+  std::vector<std::vector<int>> dofs_;
+  std::vector<std::vector<std::size_t>> dofs_start_;
   std::unique_ptr<WorkerPool> pool_;
   /// Scratch of one evaluation pass: per-thread gather buffers, and per cell of a chunk its
   /// nodes (gathered once, read again by the summation), result and outcome.
   struct Scratch {
-    Eigen::MatrixX2d x;
+    Eigen::MatrixXd x;
     Eigen::VectorXd ue, une;
   };
   mutable std::vector<Scratch> scratch_;
@@ -121,12 +163,11 @@ private:
 };
 
 /// Adds consistent nodal forces of a normal pressure p(x) (kPa, positive = pushing into the
-/// body) on the edges to out (full size). Axisymmetric: weighted with 2 pi r.
-void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges,
-                       const std::function<double(const Eigen::Vector2d&)>& p, Formulation f,
-                       Eigen::VectorXd& out);
+/// body) on the edges of a two-dimensional model to out (full size, the model's DOF numbering).
+/// Axisymmetric: weighted with 2 pi r.
+void add_edge_pressure(const Model& model, const std::vector<Edge>& edges,
+                       const std::function<double(const Eigen::Vector2d&)>& p, Eigen::VectorXd& out);
 /// The same for a uniform pressure p.
-void add_edge_pressure(const Mesh& mesh, const std::vector<Edge>& edges, double p, Formulation f,
-                       Eigen::VectorXd& out);
+void add_edge_pressure(const Model& model, const std::vector<Edge>& edges, double p, Eigen::VectorXd& out);
 
 } // namespace stratum

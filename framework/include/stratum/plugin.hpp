@@ -13,7 +13,7 @@
 #include "stratum/registry.hpp"
 
 /// Bumped whenever an interface in stratum/*.hpp changes in a binary-incompatible way.
-#define STRATUM_PLUGIN_ABI_VERSION 8
+#define STRATUM_PLUGIN_ABI_VERSION 9
 
 #define STRATUM_PLUGIN(registry_name)                                                                        \
   extern "C" __attribute__((visibility("default"))) int stratum_plugin_abi_version() {                       \

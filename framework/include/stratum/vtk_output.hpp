@@ -16,7 +16,7 @@
 namespace stratum {
 
 /// A named array: `components` values per tuple, tuples contiguous.
-struct Field {
+struct OutputArray {
   std::string name;
   int components = 1;
   std::vector<double> values;
@@ -31,18 +31,18 @@ struct OutputStep {
   /// strictly increasing: a state written again at the same time (e.g. after
   /// reset_displacements) follows at the previous time + 1e-6.
   double time = 0.0;
-  /// Field data of the step (one value each, on the .vtu and the .vtp): e.g. stage_number, step,
+  /// OutputArray data of the step (one value each, on the .vtu and the .vtp): e.g. stage_number, step,
   /// load_factor, head_load_kN; and text values, e.g. stage.
   std::vector<std::pair<std::string, double>> values = {};
   std::vector<std::pair<std::string, std::string>> texts = {};
-  /// Field data string arrays of several values (e.g. "domains": the domain names in order).
+  /// OutputArray data string arrays of several values (e.g. "domains": the domain names in order).
   std::vector<std::pair<std::string, std::vector<std::string>>> text_lists = {};
   const Mesh* mesh = nullptr;
-  std::vector<int> cells;          ///< the cells to write (active cells)
-  std::vector<Field> point_fields; ///< one tuple per mesh node (e.g. "displacement", 3 comps)
-  std::vector<Field> cell_fields;  ///< one tuple per written cell (e.g. "stress", "set_id")
-  Eigen::MatrixX2d ip_coords;      ///< integration points (rows)
-  std::vector<Field> ip_fields;    ///< one tuple per integration point
+  std::vector<int> cells;                ///< the cells to write (active cells)
+  std::vector<OutputArray> point_fields; ///< one tuple per mesh node (e.g. "displacement", 3 comps)
+  std::vector<OutputArray> cell_fields;  ///< one tuple per written cell (e.g. "stress", "set_id")
+  Eigen::MatrixXd ip_coords;             ///< integration points (rows)
+  std::vector<OutputArray> ip_fields;    ///< one tuple per integration point
 };
 
 /// Writes <dir>/<stem>_<k>.vtu and <dir>/<stem>_ip_<k>.vtp for k = 0, 1, ... and keeps

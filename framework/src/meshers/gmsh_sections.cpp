@@ -222,6 +222,7 @@ void read_elements(Lexer& lx, GmshFile& f, const Token& section) {
       if (et.dim == 2 && (type == 2 || type == 9)) {
         // Triangle: corners to slots 0-2, midside nodes (Gmsh order 0-1, 1-2, 2-0) to slots 4-6.
         QuadElement q{Cell{}, entity, tag, at};
+        q.cell.type = CellType::triangle;
         for (int k = 0; k < et.nodes; ++k) q.cell.nodes[k < 3 ? k : k + 1] = nodes[k];
         f.quads.push_back(q);
       } else if (et.dim == 2) {

@@ -63,11 +63,13 @@ PileComponents::PileComponents(const Model& model, std::vector<int> pile_cells,
     }
   }
   auto weights = [&](const std::vector<Edge>& edges, std::vector<std::pair<int, double>>& w) {
-    Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * static_cast<Eigen::Index>(model.mesh.nodes.size()));
-    add_edge_pressure(model.mesh, edges, 1.0, model.formulation, f);
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(model.dofs.total());
+    add_edge_pressure(model, edges, 1.0, f);
     double total = 0.0;
-    for (Eigen::Index n = 0; 2 * n + 1 < f.size(); ++n)
-      if (f[2 * n + 1] != 0.0) w.emplace_back(static_cast<int>(n), f[2 * n + 1]), total += f[2 * n + 1];
+    for (std::size_t n = 0; n < model.mesh.nodes.size(); ++n) {
+      const int d = model.dofs.dof(static_cast<int>(n), field_uy);
+      if (d >= 0 && f[d] != 0.0) w.emplace_back(static_cast<int>(n), f[d]), total += f[d];
+    }
     for (auto& [n, x] : w) x /= total;
     return std::abs(total);
   };
@@ -78,12 +80,12 @@ PileComponents::PileComponents(const Model& model, std::vector<int> pile_cells,
 
 PileComponents::Raw PileComponents::measure(Model& m) const {
   Raw r;
-  auto settlement = [&](int n) { return -m.u[2 * n + 1]; };
+  auto settlement = [&](int n) { return -m.u[m.dofs.dof(n, field_uy)]; };
 
   double volume_strain = 0;
   // Shortening: the integral of the vertical strain over the pile cells, at their points.
   std::vector<int> nodes;
-  Eigen::MatrixX2d x;
+  Eigen::MatrixXd x;
   Eigen::VectorXd w;
   for (const auto& dm : m.domains) {
     if (!dm.law.material) continue;
@@ -92,7 +94,7 @@ PileComponents::Raw PileComponents::measure(Model& m) const {
       if (!m.is_active(c) || !std::binary_search(pile_cells_.begin(), pile_cells_.end(), c)) continue;
       m.cell_nodes(c, nodes, x);
       const Cell& cell = m.mesh.cells[static_cast<std::size_t>(c)];
-      dm.element->point_weights(ElementData{c, cell.shape(), &x}, w);
+      dm.element->point_weights(m.element_data(c, x), w);
       double mean = 0.0;
       for (Eigen::Index p = 0; p < w.size(); ++p)
         mean +=
@@ -114,6 +116,7 @@ PileComponents::Raw PileComponents::measure(Model& m) const {
   std::map<int, std::array<double, 2>> slips; // pile node -> (y, slip)
   r.shaft = r.base_load = interface_domains_.empty() ? nan : 0.0;
   Eigen::VectorXd ue;
+  std::vector<int> dofs;
   ElementResult res;
   for (std::size_t d : interface_domains_) {
     const Domain& dm = m.domains[d];
@@ -124,21 +127,22 @@ PileComponents::Raw PileComponents::measure(Model& m) const {
       const Cell& cell = m.mesh.cells[static_cast<std::size_t>(c)];
       m.cell_nodes(c, nodes, x);
       const bool vertical = std::abs(x(1, 0) - x(0, 0)) < std::abs(x(1, 1) - x(0, 1));
-      ue.resize(2 * static_cast<Eigen::Index>(nodes.size()));
-      for (std::size_t i = 0; i < nodes.size(); ++i)
-        for (int k = 0; k < 2; ++k) ue[static_cast<Eigen::Index>(2 * i) + k] = m.u[2 * nodes[i] + k];
+      m.cell_dofs(dm, c, dofs);
+      ue.resize(static_cast<Eigen::Index>(dofs.size()));
+      for (std::size_t i = 0; i < dofs.size(); ++i)
+        ue[static_cast<Eigen::Index>(i)] = dofs[i] >= 0 ? m.u[dofs[i]] : 0.0;
       // u = u_n: a zero increment, so the law returns its committed tractions.
-      if (!dm.element
-               ->compute(ElementData{c, cell.shape(), &x}, ue, ue, dm.law, scratch, dm.first_point[ci], false,
-                         res)
+      if (!dm.element->compute(m.element_data(c, x), ue, ue, dm.law, scratch, dm.first_point[ci], false, res)
                .ok()) {
         r.shaft = r.base_load = nan;
         continue;
       }
+      // The vertical components of the pile nodes' forces, in the cell's local order.
       double fy = 0.0;
-      for (std::size_t i = 0; i < nodes.size(); ++i)
-        if (pile_node_[static_cast<std::size_t>(nodes[i])])
-          fy += res.force[static_cast<Eigen::Index>(2 * i + 1)];
+      for (std::size_t i = 0; i < dofs.size(); ++i)
+        for (int n : nodes)
+          if (pile_node_[static_cast<std::size_t>(n)] && dofs[i] >= 0 && dofs[i] == m.dofs.dof(n, field_uy))
+            fy += res.force[static_cast<Eigen::Index>(i)];
       (vertical ? r.shaft : r.base_load) -= fy;
       if (!vertical) continue;
       // Node pairs of a line-interface cell: slots (0, 3), (1, 2), (4, 6).

@@ -10,7 +10,7 @@ namespace stratum {
 double mean_settlement(const Model& m, const std::vector<int>& nodes) {
   if (nodes.empty()) return 0.0;
   double s = 0.0;
-  for (int n : nodes) s -= m.u[2 * n + 1];
+  for (int n : nodes) s -= m.u[m.dofs.dof(n, field_uy)];
   return s / static_cast<double>(nodes.size());
 }
 
@@ -20,7 +20,7 @@ std::vector<std::array<double, 2>> axial_profile(const Model& m, const std::vect
   std::vector<int> set(cells);
   std::sort(set.begin(), set.end());
   std::vector<int> nodes;
-  Eigen::MatrixX2d x, xp;
+  Eigen::MatrixXd x, xp;
   Eigen::VectorXd w;
   for (const auto& dm : m.domains) {
     if (!dm.law.material) continue;
@@ -28,7 +28,7 @@ std::vector<std::array<double, 2>> axial_profile(const Model& m, const std::vect
       const int c = dm.cells[ci];
       if (!m.is_active(c) || !std::binary_search(set.begin(), set.end(), c)) continue;
       m.cell_nodes(c, nodes, x);
-      const ElementData data{c, m.mesh.cells[c].shape(), &x};
+      const ElementData data = m.element_data(c, x);
       dm.element->point_coordinates(data, xp);
       dm.element->point_weights(data, w);
       const double r0 = x.col(0).minCoeff(), r1 = x.col(0).maxCoeff();

@@ -28,7 +28,7 @@ namespace stratum {
 inline void add_status_names(const Model& m, OutputStep& out, bool ip_output) {
   std::vector<std::string> domains;
   bool contact = false;
-  Field cell_domain{"domain", 1, {}};
+  OutputArray cell_domain{"domain", 1, {}};
   for (std::size_t d = 0; d < m.domains.size(); ++d) {
     const auto& dm = m.domains[d];
     domains.push_back(dm.name);
@@ -44,7 +44,7 @@ inline void add_status_names(const Model& m, OutputStep& out, bool ip_output) {
     out.text_lists.emplace_back("interface_status_names", std::vector<std::string>{"stick", "slip", "open"});
   if (cell_domain.values.size() == out.cells.size()) out.cell_fields.push_back(std::move(cell_domain));
   if (!ip_output) return;
-  Field domain{"domain", 1, {}};
+  OutputArray domain{"domain", 1, {}};
   for (std::size_t d = 0; d < m.domains.size(); ++d) {
     const auto& dm = m.domains[d];
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)

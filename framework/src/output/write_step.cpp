@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 
 namespace fs = std::filesystem;
 
@@ -49,23 +50,34 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
     out.values.push_back({"load." + l.name + ".fraction", fraction});
     out.values.push_back({"load." + l.name + "." + units.column("Fy", "kN"), fraction * l.fy});
   }
-  Field disp{"displacement", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
-  Field reac{"reaction", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
+  OutputArray disp{"displacement", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
+  OutputArray reac{"reaction", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
   for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
-    for (int c = 0; c < 2; ++c) {
-      const auto d = static_cast<Eigen::Index>(2 * n + static_cast<std::size_t>(c));
+    for (int c = 0; c < m.dim(); ++c) {
+      const int d = m.dofs.dof(static_cast<int>(n), field_ux + c);
+      if (d < 0) continue;
       disp.values[3 * n + static_cast<std::size_t>(c)] = m.u[d];
       if (m.dofs.eq[static_cast<std::size_t>(d)] < 0)
         reac.values[3 * n + static_cast<std::size_t>(c)] =
             m.reactions[d] - m.load_base[d] - m.lambda * m.load_ref[d];
     }
   out.point_fields = {std::move(disp), std::move(reac)};
+  // Every other field of the model (e.g. a pore pressure) as a scalar array of its name; NaN at
+  // the nodes that do not carry it (the midside nodes of a Taylor-Hood cell).
+  for (std::size_t f = static_cast<std::size_t>(m.dim()); f < m.dofs.fields.size(); ++f) {
+    OutputArray a{m.dofs.fields[f].name, 1,
+                  std::vector<double>(m.mesh.nodes.size(), std::numeric_limits<double>::quiet_NaN())};
+    for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
+      if (const int d = m.dofs.dof(static_cast<int>(n), static_cast<int>(f)); d >= 0) a.values[n] = m.u[d];
+    out.point_fields.push_back(std::move(a));
+  }
   const std::vector<std::string> voigt{"xx", "yy", "zz", "xy", "yz", "zx"};
-  Field stress{"stress", 6, {}, voigt}, set_id{"set_id", 1, {}};
-  Field ip_stress{"stress", 6, {}, voigt}, ip_strain{"strain", 6, {}, voigt}, ip_plastic{"plastic", 1, {}};
+  OutputArray stress{"stress", 6, {}, voigt}, set_id{"set_id", 1, {}};
+  OutputArray ip_stress{"stress", 6, {}, voigt}, ip_strain{"strain", 6, {}, voigt},
+      ip_plastic{"plastic", 1, {}};
   // Named history components (Material::history_names()): one scalar field per name over all
   // integration points; NaN where a domain's material has no component of that name.
-  std::vector<Field> ip_history;
+  std::vector<OutputArray> ip_history;
   std::vector<std::vector<int>> history_index(m.domains.size()); // field -> history slot, per domain
   if (settings.ip_output)
     for (std::size_t d = 0; d < m.domains.size(); ++d) {
@@ -76,7 +88,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
       for (std::size_t k = 0; k < n; ++k) {
         std::size_t f = 0;
         while (f < ip_history.size() && ip_history[f].name != names[k]) ++f;
-        if (f == ip_history.size()) ip_history.push_back(Field{names[k], 1, {}});
+        if (f == ip_history.size()) ip_history.push_back(OutputArray{names[k], 1, {}});
         for (auto& idx : history_index) idx.resize(ip_history.size(), -1);
         history_index[d][f] = static_cast<int>(k);
       }
@@ -88,7 +100,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   out.ip_coords.resize(static_cast<Eigen::Index>(settings.ip_output ? total_points : 0), 2);
   Eigen::Index row = 0;
   std::vector<int> nodes;
-  Eigen::MatrixX2d x, xp;
+  Eigen::MatrixXd x, xp;
   Eigen::VectorXd wts;
   for (std::size_t d = 0; d < m.domains.size(); ++d)
     for (std::size_t ci = 0; ci < m.domains[d].cells.size(); ++ci) {
@@ -97,7 +109,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
       if (!m.is_active(c)) continue; // removed (bored) or not yet placed
       out.cells.push_back(c);
       m.cell_nodes(c, nodes, x);
-      ElementData data{c, m.mesh.cells[c].shape(), &x};
+      ElementData data = m.element_data(c, x);
       dm.element->point_weights(data, wts);
       Vec6 avg = Vec6::Zero();
       for (std::size_t p = dm.first_point[ci]; p < dm.first_point[ci + 1]; ++p) {

@@ -80,7 +80,10 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     if (!displaced_head) return m.lambda * force;
     double P = 0.0;
     if (stepped)
-      for (int n : head_nodes) P -= m.reactions[2 * n + 1] - m.load_base[2 * n + 1];
+      for (int n : head_nodes) {
+        const int d = m.dofs.dof(n, field_uy);
+        P -= m.reactions[d] - m.load_base[d];
+      }
     return P;
   };
   const std::vector<int>* pile =

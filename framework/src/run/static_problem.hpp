@@ -42,9 +42,12 @@ public:
   std::vector<Eigen::Index> node_set_dofs(const std::string& set, int component) const override {
     std::vector<Eigen::Index> v;
     auto it = m_.mesh.node_sets.find(set);
-    if (it == m_.mesh.node_sets.end() || component < 0 || component > 1) return v;
+    if (it == m_.mesh.node_sets.end() || component < 0 ||
+        component >= static_cast<int>(m_.dofs.fields.size()))
+      return v;
     for (int n : it->second)
-      if (const int e = m_.dofs.eq[static_cast<std::size_t>(2 * n + component)]; e >= 0) v.push_back(e);
+      if (const int d = m_.dofs.dof(n, component); d >= 0)
+        if (const int e = m_.dofs.eq[static_cast<std::size_t>(d)]; e >= 0) v.push_back(e);
     return v;
   }
   bool renew_decisions() override {

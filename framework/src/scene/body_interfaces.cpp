@@ -63,7 +63,7 @@ InterfaceSplit split_interface(Mesh& mesh, const std::string& name, const std::v
   if (kind == InterfaceCells::line) {
     for (const Edge& e : edges) {
       Cell cell;
-      cell.kind = CellKind::line_interface;
+      cell.type = CellType::line_interface;
       cell.nodes[0] = e.a, cell.nodes[1] = e.b, cell.nodes[2] = copy[e.b], cell.nodes[3] = copy[e.a];
       if (e.mid >= 0) cell.nodes[4] = e.mid, cell.nodes[6] = copy[e.mid];
       out.cells.push_back(static_cast<int>(mesh.cells.size()));
@@ -79,7 +79,7 @@ InterfaceSplit split_interface(Mesh& mesh, const std::string& name, const std::v
       if (e.mid >= 0) quadratic = true, mids.insert(e.mid);
     for (int n : nodes) {
       Cell cell;
-      cell.kind = CellKind::node_pair;
+      cell.type = CellType::node_pair;
       cell.nodes[0] = n, cell.nodes[1] = copy[n];
       cell.nodes[2] = prev.count(n) ? prev[n] : n;
       cell.nodes[3] = next.count(n) ? next[n] : n;
@@ -98,13 +98,12 @@ std::vector<InterfacePoint> interface_points(const Model& model, const Domain& d
   std::vector<InterfacePoint> pts;
   if (!dm.law.contact) return pts;
   std::vector<int> nodes;
-  Eigen::MatrixX2d x, xp;
+  Eigen::MatrixXd x, xp;
   for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
     const int c = dm.cells[ci];
     if (!model.is_active(c)) continue; // output skips cells removed or not yet placed
     model.cell_nodes(c, nodes, x);
-    dm.element->point_coordinates(ElementData{c, model.mesh.cells[static_cast<std::size_t>(c)].shape(), &x},
-                                  xp);
+    dm.element->point_coordinates(model.element_data(c, x), xp);
     for (std::size_t p = dm.first_point[ci]; p < dm.first_point[ci + 1]; ++p) {
       const auto slot = dm.states.committed(p);
       InterfacePoint ip;
@@ -135,8 +134,8 @@ void write_interface_csv(const std::vector<InterfacePoint>& points, const std::s
   if (!out) throw Error("cannot write interface CSV file '" + path + "'");
 }
 
-void append_interface_fields(const Model& model, std::vector<Field>& ip_fields) {
-  Field tr{"interface_traction", 2, {}, {"shear", "normal"}},
+void append_interface_fields(const Model& model, std::vector<OutputArray>& ip_fields) {
+  OutputArray tr{"interface_traction", 2, {}, {"shear", "normal"}},
       jump{"interface_jump", 2, {}, {"slip", "opening"}}, status{"interface_status", 1, {}};
   for (const auto& dm : model.domains) {
     if (!dm.law.contact) {

@@ -21,14 +21,17 @@ void place_points(Domain& dm, const Model& model, int history_size, const std::s
                   const SourceLocation& element_at, Init&& init) {
   dm.first_point.assign(dm.cells.size() + 1, 0);
   std::vector<int> nodes;
-  Eigen::MatrixX2d x;
+  Eigen::MatrixXd x;
   for (std::size_t c = 0; c < dm.cells.size(); ++c) {
     const int cell = dm.cells[c];
-    const unsigned shape = model.mesh.cells[static_cast<std::size_t>(cell)].shape();
+    const Cell& cc = model.mesh.cells[static_cast<std::size_t>(cell)];
+    const unsigned shape = cc.shape();
     try {
+      if (!dm.element->accepts(cc.type))
+        throw Error(std::string("the element does not take cells of type ") + to_string(cc.type));
       dm.element->check_shape(shape);
       model.cell_nodes(cell, nodes, x);
-      dm.element->check_geometry(ElementData{cell, shape, &x});
+      dm.element->check_geometry(model.element_data(cell, x));
     } catch (const Error& e) {
       throw Error(element_at, ctx + " cell " + std::to_string(cell) + ": " + e.message());
     }

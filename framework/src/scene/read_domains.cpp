@@ -158,7 +158,9 @@ void scene::read_constraints(const toml::table& root, Scene& sc) {
 }
 
 void Analysis::Impl::build_constraints(const scene::Scene& sc) {
-  const auto ndof = static_cast<Eigen::Index>(model.mesh.nodes.size() * DofMap::per_node);
+  // The unknowns the domains' elements declare (every domain and interface is built by now).
+  model.layout_dofs();
+  const auto ndof = static_cast<Eigen::Index>(model.dofs.total());
   std::vector<char> fixed(static_cast<std::size_t>(ndof), 0);
   model.prescribed = Eigen::VectorXd::Zero(ndof);
   for (const auto& c : sc.constraints) {
@@ -171,7 +173,9 @@ void Analysis::Impl::build_constraints(const scene::Scene& sc) {
       if (!c.value[k]) continue;
       const double v = *c.value[k];
       for (int n : ns->second) {
-        const auto d = static_cast<std::size_t>(n) * 2 + k;
+        const int dof = model.dofs.dof(n, field_ux + static_cast<int>(k));
+        if (dof < 0) continue; // a node no element gives this unknown
+        const auto d = static_cast<std::size_t>(dof);
         if (fixed[d] && model.prescribed[static_cast<Eigen::Index>(d)] != v)
           throw Error(c.value_at[k], "[[constraints]] " + std::string(k == 0 ? "ux" : "uy") + " on node " +
                                          std::to_string(n) + " contradicts an earlier constraint");

@@ -187,7 +187,7 @@ void scene::read_stages(const toml::table& root, PluginCatalog& catalog, Registr
 }
 
 void Analysis::Impl::build_stages(scene::Scene& sc) {
-  const auto ndof = static_cast<Eigen::Index>(model.mesh.nodes.size() * DofMap::per_node);
+  const auto ndof = static_cast<Eigen::Index>(model.dofs.total());
   initial_prescribed = model.prescribed;
   model.prescribed_base = Eigen::VectorXd::Zero(ndof);
   model.load_base = Eigen::VectorXd::Zero(ndof);

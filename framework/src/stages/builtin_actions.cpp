@@ -152,8 +152,10 @@ public:
     Model& m = s.model;
     const bool x = p_.where("ux").known(), y = p_.where("uy").known();
     for (int n : m.mesh.node_sets.at(p_.text("nodes"))) {
-      if (x) m.constrained[2 * n] = 1, m.prescribed[2 * n] = p_.real("ux");
-      if (y) m.constrained[2 * n + 1] = 1, m.prescribed[2 * n + 1] = p_.real("uy");
+      if (const int d = m.dofs.dof(n, field_ux); x && d >= 0)
+        m.constrained[d] = 1, m.prescribed[d] = p_.real("ux");
+      if (const int d = m.dofs.dof(n, field_uy); y && d >= 0)
+        m.constrained[d] = 1, m.prescribed[d] = p_.real("uy");
     }
   }
 
@@ -318,7 +320,9 @@ public:
     // The head's current top nodes are pushed down by `settlement` over the stage.
     s.head_nodes = load_nodes(s.model, spec_);
     const double uy = -p_.real("settlement");
-    for (int n : s.head_nodes) s.model.constrained[2 * n + 1] = 1, s.model.prescribed[2 * n + 1] = uy;
+    for (int n : s.head_nodes)
+      if (const int d = s.model.dofs.dof(n, field_uy); d >= 0)
+        s.model.constrained[d] = 1, s.model.prescribed[d] = uy;
   }
 
 private:

@@ -9,11 +9,11 @@
 namespace stratum {
 
 double projected_area(const Model& model, const std::vector<Edge>& edges) {
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.mesh.nodes.size() * 2));
-  add_edge_pressure(
-      model.mesh, edges, [](const Eigen::Vector2d&) { return 1.0; }, model.formulation, f);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(model.dofs.total());
+  add_edge_pressure(model, edges, 1.0, f);
   double fy = 0.0;
-  for (Eigen::Index i = 1; i < f.size(); i += 2) fy += f[i];
+  for (std::size_t n = 0; n < model.mesh.nodes.size(); ++n)
+    if (const int d = model.dofs.dof(static_cast<int>(n), field_uy); d >= 0) fy += f[d];
   return std::abs(fy);
 }
 
@@ -66,39 +66,40 @@ void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f) {
     if (std::isfinite(spec.total_force)) {
       const double area = projected_area(model, edges);
       const double p = area > 0 ? spec.total_force / area : 0.0;
-      add_edge_pressure(
-          model.mesh, edges, [p](const Eigen::Vector2d&) { return p; }, model.formulation, f);
+      add_edge_pressure(model, edges, p, f);
     } else {
       const LoadSpec s = spec;
       add_edge_pressure(
-          model.mesh, edges,
+          model, edges,
           [&s](const Eigen::Vector2d& x) {
             return s.p + s.gamma * std::min(std::max(s.surface - x.y(), 0.0), s.critical_depth);
           },
-          model.formulation, f);
+          f);
     }
     break;
   }
   case LoadSpec::Kind::force:
     for (int n : model.mesh.node_sets.at(spec.set)) {
-      f[2 * n] += spec.fx;
-      f[2 * n + 1] += spec.fy;
+      if (const int d = model.dofs.dof(n, field_ux); d >= 0) f[d] += spec.fx;
+      if (const int d = model.dofs.dof(n, field_uy); d >= 0) f[d] += spec.fy;
     }
     break;
   case LoadSpec::Kind::gravity: {
     const auto& set = model.mesh.cell_sets.at(spec.set);
     const std::set<int> in_set(set.begin(), set.end());
-    const Vec2 b(0.0, -spec.gamma);
-    std::vector<int> nodes;
-    Eigen::MatrixX2d x;
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(2);
+    b[field_uy] = -spec.gamma;
+    std::vector<int> nodes, dofs;
+    Eigen::MatrixXd x;
     Eigen::VectorXd fe;
     for (const auto& dm : model.domains)
       for (int c : dm.cells) {
         if (!model.is_active(c) || !in_set.count(c)) continue;
         model.cell_nodes(c, nodes, x);
-        dm.element->body_force(ElementData{c, model.mesh.cells[c].shape(), &x}, b, fe);
-        for (std::size_t a = 0; a < nodes.size(); ++a)
-          for (int k = 0; k < 2; ++k) f[2 * nodes[a] + k] += fe[static_cast<Eigen::Index>(2 * a) + k];
+        dm.element->body_force(model.element_data(c, x), b, fe);
+        model.cell_dofs(dm, c, dofs);
+        for (std::size_t i = 0; i < dofs.size(); ++i)
+          if (dofs[i] >= 0) f[dofs[i]] += fe[static_cast<Eigen::Index>(i)];
       }
     break;
   }

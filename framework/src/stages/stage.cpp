@@ -26,14 +26,14 @@ template <class Takes, class Fn>
 void for_cells(Model& m, const std::vector<int>& cells, Takes&& takes, Fn&& fn) {
   const auto owner = cell_owners(m);
   std::vector<int> nodes;
-  Eigen::MatrixX2d x, xp;
+  Eigen::MatrixXd x, xp;
   for (int c : cells) {
     const auto [d, i] = owner[static_cast<std::size_t>(c)];
     if (d < 0) continue;
     auto& dm = m.domains[static_cast<std::size_t>(d)];
     if (!takes(dm)) continue;
     m.cell_nodes(c, nodes, x);
-    dm.element->point_coordinates(ElementData{c, m.mesh.cells[c].shape(), &x}, xp);
+    dm.element->point_coordinates(m.element_data(c, x), xp);
     const auto first = dm.first_point[static_cast<std::size_t>(i)];
     const auto last = dm.first_point[static_cast<std::size_t>(i) + 1];
     fn(dm, c, first, last, xp);
@@ -45,7 +45,7 @@ void for_cells(Model& m, const std::vector<int>& cells, Takes&& takes, Fn&& fn) 
 template <class Fn> void for_points(Model& m, const std::vector<int>& cells, Fn&& fn) {
   for_cells(
       m, cells, [](const Domain& dm) { return dm.law.material != nullptr; },
-      [&](Domain& dm, int, std::size_t first, std::size_t last, const Eigen::MatrixX2d& xp) {
+      [&](Domain& dm, int, std::size_t first, std::size_t last, const Eigen::MatrixXd& xp) {
         for (std::size_t p = first; p < last; ++p) {
           auto slot = dm.states.committed_for_init(p);
           fn(dm, slot, Eigen::Vector2d(xp.row(static_cast<Eigen::Index>(p - first))));
@@ -60,7 +60,7 @@ template <class Pressure>
 void set_interface_compression(Model& m, const std::vector<int>& cells, Pressure&& p) {
   for_cells(
       m, cells, [](const Domain& dm) { return dm.law.contact != nullptr; },
-      [&](Domain& dm, int c, std::size_t first, std::size_t last, const Eigen::MatrixX2d& xp) {
+      [&](Domain& dm, int c, std::size_t first, std::size_t last, const Eigen::MatrixXd& xp) {
         std::vector<double> h0(static_cast<std::size_t>(dm.law.contact->history_size()));
         std::vector<double> h1(h0.size());
         for (std::size_t q = first; q < last; ++q) {
@@ -115,10 +115,10 @@ void set_geostatic(Model& model, const std::vector<int>& cells, double gamma, do
   std::vector<double> lateral(model.mesh.cells.size(), 0.0);
   for (int c : active) {
     const auto& cell = model.mesh.cells[static_cast<std::size_t>(c)];
-    if (cell.kind == CellKind::solid) continue;
+    if (is_solid(cell.type)) continue;
     // A line interface runs from node 0 to node 1; a node pair along its neighbours (slots 2, 3).
-    const int a = cell.kind == CellKind::node_pair ? cell.nodes[2] : cell.nodes[0];
-    const int b = cell.kind == CellKind::node_pair ? cell.nodes[3] : cell.nodes[1];
+    const int a = cell.type == CellType::node_pair ? cell.nodes[2] : cell.nodes[0];
+    const int b = cell.type == CellType::node_pair ? cell.nodes[3] : cell.nodes[1];
     const Eigen::Vector2d t =
         model.mesh.nodes[static_cast<std::size_t>(b)] - model.mesh.nodes[static_cast<std::size_t>(a)];
     if (!(t.norm() > 0)) continue;

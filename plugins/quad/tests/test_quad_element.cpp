@@ -51,9 +51,9 @@ std::vector<int> slots_of(unsigned shape) {
 
 /// Coordinates of a cell of the given mask mapped from the distorted quadrilateral with
 /// corners P (midside nodes on the bilinear image, then moved by `bulge` along y).
-Eigen::MatrixX2d cell_coordinates(unsigned shape, const std::array<Vec2, 4>& P, double bulge = 0.0) {
+Eigen::MatrixXd cell_coordinates(unsigned shape, const std::array<Vec2, 4>& P, double bulge = 0.0) {
   const auto slots = slots_of(shape);
-  Eigen::MatrixX2d X(static_cast<Eigen::Index>(slots.size()), 2);
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(slots.size()), 2);
   for (std::size_t k = 0; k < slots.size(); ++k) {
     const double xi = stratum::quad::slot_xi[static_cast<std::size_t>(slots[k])][0];
     const double eta = stratum::quad::slot_xi[static_cast<std::size_t>(slots[k])][1];
@@ -108,7 +108,7 @@ public:
 };
 
 /// Internal force and stiffness of one cell at displacement u (u_n = 0, virgin states).
-ElementResult evaluate_cell(const QuadElement& el, unsigned shape, const Eigen::MatrixX2d& X,
+ElementResult evaluate_cell(const QuadElement& el, unsigned shape, const Eigen::MatrixXd& X,
                             const Eigen::VectorXd& u, const stratum::Material& mat) {
   StateStore states(static_cast<std::size_t>(el.num_points(shape)), mat.history_size());
   ElementData cell{3, shape, &X};
@@ -209,9 +209,9 @@ struct Assembly {
   Eigen::VectorXd f;
 };
 
-Eigen::MatrixX2d coordinates_of(const TestMesh& m, std::size_t e) {
+Eigen::MatrixXd coordinates_of(const TestMesh& m, std::size_t e) {
   const auto& nodes = m.cells[e];
-  Eigen::MatrixX2d X(static_cast<Eigen::Index>(nodes.size()), 2);
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(nodes.size()), 2);
   for (std::size_t k = 0; k < nodes.size(); ++k)
     X.row(static_cast<Eigen::Index>(k)) = m.nodes[static_cast<std::size_t>(nodes[k])].transpose();
   return X;
@@ -225,7 +225,7 @@ Assembly assemble(const QuadElement& el, const TestMesh& m, const stratum::Mater
   std::size_t first = 0;
   for (std::size_t e = 0; e < m.cells.size(); ++e) {
     const auto& nodes = m.cells[e];
-    const Eigen::MatrixX2d X = coordinates_of(m, e);
+    const Eigen::MatrixXd X = coordinates_of(m, e);
     const auto n = static_cast<Eigen::Index>(nodes.size());
     Eigen::VectorXd ue(2 * n);
     for (Eigen::Index k = 0; k < n; ++k)
@@ -451,7 +451,7 @@ TEST_CASE("quad: stiffness has exactly the rigid-body zero-energy modes", "[elem
     for (double bulge : {0.0, 0.05}) {
       INFO("mask 0x" << std::hex << c.shape << std::dec << " rule " << c.rule << " volumetric "
                      << static_cast<int>(c.vol) << " bulge " << bulge);
-      const Eigen::MatrixX2d X = cell_coordinates(c.shape, distorted, bulge);
+      const Eigen::MatrixXd X = cell_coordinates(c.shape, distorted, bulge);
       const Eigen::VectorXd u0 = Eigen::VectorXd::Zero(2 * X.rows());
       {
         const QuadElement el(Options{Formulation::plane_strain, c.rule, c.vol});
@@ -476,7 +476,7 @@ TEST_CASE("quad: stiffness has exactly the rigid-body zero-energy modes", "[elem
   }
   // Control: an 8-node quad with 2x2 Gauss points has one spurious mode, which the count must see.
   const QuadElement reduced(Options{Formulation::plane_strain, 2, Volumetric::full});
-  const Eigen::MatrixX2d X8 = cell_coordinates(0xFF, distorted);
+  const Eigen::MatrixXd X8 = cell_coordinates(0xFF, distorted);
   CHECK(count_zero_modes(evaluate_cell(reduced, 0xFF, X8, Eigen::VectorXd::Zero(16), mat).stiffness, 1e-10)
             .first == 4);
 }
@@ -488,7 +488,7 @@ TEST_CASE("quad: axisymmetric mean dilatation of 8-node cells has one conformal 
   // Mean dilatation cannot see this field; the selective variant (pressure in Q1) can.
   const stratum::linear_elastic::LinearElastic mat(stratum::linear_elastic::isotropic_stiffness(1000.0, 0.3));
   const std::array<Vec2, 4> rect{Vec2(1.0, 0.0), Vec2(2.0, 0.0), Vec2(2.0, 1.0), Vec2(1.0, 1.0)};
-  const Eigen::MatrixX2d X = cell_coordinates(0xFF, rect);
+  const Eigen::MatrixXd X = cell_coordinates(0xFF, rect);
   const double zbar = 0.5; // symmetric in z
   Eigen::VectorXd w(16);
   for (Eigen::Index k = 0; k < 8; ++k) {
@@ -529,7 +529,7 @@ TEST_CASE("quad: tangent equals the central-difference derivative of the interna
           INFO("formulation " << static_cast<int>(form) << " volumetric " << static_cast<int>(vol)
                               << " mask 0x" << std::hex << shape << std::dec << " rule " << rule);
           const QuadElement el(Options{form, rule, vol});
-          const Eigen::MatrixX2d X = cell_coordinates(shape, distorted, 0.04);
+          const Eigen::MatrixXd X = cell_coordinates(shape, distorted, 0.04);
           const auto nd = 2 * X.rows();
           Eigen::VectorXd u(nd);
           for (Eigen::Index i = 0; i < nd; ++i) u(i) = 1e-3 * std::sin(1.7 * static_cast<double>(i) + 0.3);
@@ -560,7 +560,7 @@ TEST_CASE("quad: element passes committed stress and the strain increment to the
   for (Volumetric vol : {Volumetric::full, Volumetric::bbar}) {
     const QuadElement el(Options{Formulation::axisymmetric, 2, vol});
     const unsigned shape = 0x0F;
-    const Eigen::MatrixX2d X = cell_coordinates(shape, distorted);
+    const Eigen::MatrixXd X = cell_coordinates(shape, distorted);
     Eigen::VectorXd u(8), un(8);
     for (int i = 0; i < 8; ++i) {
       u(i) = 1e-3 * std::cos(0.9 * i);
@@ -614,7 +614,7 @@ TEST_CASE("quad: B-bar strains keep the deviator and replace the volumetric stra
       for (int rule : {2, 3}) {
         INFO("formulation " << static_cast<int>(form) << " mask 0x" << std::hex << shape << std::dec
                             << " rule " << rule);
-        const Eigen::MatrixX2d X = cell_coordinates(shape, distorted, 0.04);
+        const Eigen::MatrixXd X = cell_coordinates(shape, distorted, 0.04);
         Eigen::VectorXd u(2 * X.rows());
         for (Eigen::Index i = 0; i < u.size(); ++i)
           u(i) = 1e-3 * std::cos(2.1 * static_cast<double>(i) + 0.5);
@@ -753,7 +753,7 @@ TEST_CASE("quad: axisymmetric patch tests with u_r = a r, u_z = b z + c", "[patc
 TEST_CASE("quad: consistent body forces sum to the weight of the cell", "[element]") {
   const Vec2 b(0.7, -19.0);
   for (unsigned shape : {0x0Fu, 0xFFu, 0x5Fu, 0x8Fu, 0xEFu}) {
-    const Eigen::MatrixX2d X = cell_coordinates(shape, distorted); // straight edges: exact area
+    const Eigen::MatrixXd X = cell_coordinates(shape, distorted); // straight edges: exact area
     // polygon area, int x dA and int x^2 dA (shoelace-type formulas)
     double A = 0, Ix = 0, Ixx = 0;
     for (int i = 0; i < 4; ++i) {
@@ -769,7 +769,7 @@ TEST_CASE("quad: consistent body forces sum to the weight of the cell", "[elemen
       ElementData cell{1, shape, &X};
       Eigen::VectorXd f;
       Eigen::VectorXd w;
-      Eigen::MatrixX2d xp;
+      Eigen::MatrixXd xp;
       {
         const QuadElement el(Options{Formulation::plane_strain, rule, Volumetric::full});
         el.body_force(cell, b, f);
@@ -796,7 +796,7 @@ TEST_CASE("quad: consistent body forces sum to the weight of the cell", "[elemen
     }
   }
   // corner nodes of a square quad4 get a quarter each
-  Eigen::MatrixX2d sq(4, 2);
+  Eigen::MatrixXd sq(4, 2);
   sq << 0, 0, 2, 0, 2, 2, 0, 2;
   const QuadElement el(Options{Formulation::plane_strain, 2, Volumetric::full});
   Eigen::VectorXd f;
@@ -868,7 +868,7 @@ TEST_CASE("quad: failures are reported as outcomes naming the element and point"
   const Eigen::VectorXd u = Eigen::VectorXd::Zero(8);
 
   SECTION("inverted cell") {
-    Eigen::MatrixX2d X(4, 2);
+    Eigen::MatrixXd X(4, 2);
     X << 1, 0, 1, 1, 2, 1, 2, 0; // clockwise
     const Outcome o =
         el.compute(ElementData{7, 0x0F, &X}, u, u, Constitutive{&mat, nullptr}, states, 0, true, r);
@@ -879,7 +879,7 @@ TEST_CASE("quad: failures are reported as outcomes naming the element and point"
     CHECK_THROWS_WITH(el.body_force(ElementData{7, 0x0F, &X}, Vec2(0, -1), f), Catch::Contains("element 7"));
   }
   SECTION("cell across the axis in axisymmetry") {
-    Eigen::MatrixX2d X(4, 2);
+    Eigen::MatrixXd X(4, 2);
     X << -1, 0, 1, 0, 1, 1, -1, 1;
     const Outcome o =
         el.compute(ElementData{8, 0x0F, &X}, u, u, Constitutive{&mat, nullptr}, states, 0, true, r);
@@ -887,14 +887,14 @@ TEST_CASE("quad: failures are reported as outcomes naming the element and point"
     CHECK_THAT(o.message, Catch::Contains("element 8") && Catch::Contains("radius"));
   }
   SECTION("missing material") {
-    Eigen::MatrixX2d X(4, 2);
+    Eigen::MatrixXd X(4, 2);
     X << 1, 0, 2, 0, 2, 1, 1, 1;
     const Outcome o = el.compute(ElementData{9, 0x0F, &X}, u, u, Constitutive{}, states, 0, true, r);
     CHECK_FALSE(o.ok());
     CHECK_THAT(o.message, Catch::Contains("element 9") && Catch::Contains("Material"));
   }
   SECTION("material failure is handed back unchanged") {
-    Eigen::MatrixX2d X(4, 2);
+    Eigen::MatrixXd X(4, 2);
     X << 1, 0, 2, 0, 2, 1, 1, 1;
     const QuadFailingMaterial bad;
     const Outcome o =
@@ -903,7 +903,7 @@ TEST_CASE("quad: failures are reported as outcomes naming the element and point"
     CHECK(o.message == "return mapping failed at element 10 point 0");
   }
   SECTION("non-finite displacement") {
-    Eigen::MatrixX2d X(4, 2);
+    Eigen::MatrixXd X(4, 2);
     X << 1, 0, 2, 0, 2, 1, 1, 1;
     Eigen::VectorXd bad = u;
     bad(3) = std::nan("");
@@ -913,7 +913,7 @@ TEST_CASE("quad: failures are reported as outcomes naming the element and point"
     CHECK_THAT(o.message, Catch::Contains("element 12") && Catch::Contains("point"));
   }
   SECTION("mismatched coordinates") {
-    Eigen::MatrixX2d X(5, 2);
+    Eigen::MatrixXd X(5, 2);
     X.setZero();
     CHECK_THROWS_AS(
         el.compute(ElementData{13, 0x0F, &X}, u, u, Constitutive{&mat, nullptr}, states, 0, true, r),

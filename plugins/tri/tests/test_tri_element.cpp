@@ -59,16 +59,16 @@ private:
 
 /// A curved 6-node triangle away from the axis (midside nodes moved off the chords) or its
 /// 3-node corners.
-Eigen::MatrixX2d curved_cell(int nodes) {
-  Eigen::MatrixX2d X(6, 2);
+Eigen::MatrixXd curved_cell(int nodes) {
+  Eigen::MatrixXd X(6, 2);
   X << 0.5, 0.2, 1.6, 0.35, 0.9, 1.3, // corners 0, 1, 2 counter-clockwise
       1.05, 0.22,                     // midside 0-1, moved off the chord
       1.28, 0.88,                     // midside 1-2
       0.66, 0.72;                     // midside 2-0
-  return nodes == 6 ? X : Eigen::MatrixX2d(X.topRows(3));
+  return nodes == 6 ? X : Eigen::MatrixXd(X.topRows(3));
 }
 
-ElementResult evaluate(const tri::TriElement& el, const Eigen::MatrixX2d& X, const Eigen::VectorXd& u,
+ElementResult evaluate(const tri::TriElement& el, const Eigen::MatrixXd& X, const Eigen::VectorXd& u,
                        const Material& mat, StateStore* keep = nullptr) {
   StateStore local(static_cast<std::size_t>(el.num_points(el.required_shape())), mat.history_size());
   StateStore& states = keep ? *keep : local;
@@ -117,7 +117,7 @@ TEST_CASE("tri: shape functions interpolate, sum to one and have the right deriv
   const std::vector<std::array<double, 2>> at{{0, 0}, {1, 0}, {0, 1}, {0.5, 0}, {0.5, 0.5}, {0, 0.5}};
   for (int n : {3, 6}) {
     Eigen::VectorXd N;
-    Eigen::MatrixX2d dN;
+    Eigen::MatrixXd dN;
     for (int k = 0; k < n; ++k) { // Kronecker delta at the nodes (slot order)
       tri::shape_functions(n, at[static_cast<std::size_t>(k)][0], at[static_cast<std::size_t>(k)][1], N, dN);
       for (int i = 0; i < n; ++i) CHECK(N(i) == Approx(i == k ? 1.0 : 0.0).margin(1e-15));
@@ -127,7 +127,7 @@ TEST_CASE("tri: shape functions interpolate, sum to one and have the right deriv
     CHECK(N.sum() == Approx(1.0).epsilon(1e-15));
     CHECK(dN.colwise().sum().norm() <= 1e-14);
     Eigen::VectorXd Np, Nm;
-    Eigen::MatrixX2d d;
+    Eigen::MatrixXd d;
     tri::shape_functions(n, xi + h, eta, Np, d);
     tri::shape_functions(n, xi - h, eta, Nm, d);
     CHECK((dN.col(0) - (Np - Nm) / (2 * h)).norm() <= 1e-8);
@@ -147,7 +147,7 @@ TEST_CASE("tri: a linear displacement gives the exact constant strain at every p
       for (int rule : {1, 3, 6}) {
         if (n == 6 && rule == 1) continue;
         const tri::TriElement el({form, n, rule});
-        const Eigen::MatrixX2d X = curved_cell(n);
+        const Eigen::MatrixXd X = curved_cell(n);
         Eigen::VectorXd u(2 * n);
         for (int k = 0; k < n; ++k) {
           u(2 * k) = a0 + a1 * X(k, 0) + a2 * X(k, 1);
@@ -155,7 +155,7 @@ TEST_CASE("tri: a linear displacement gives the exact constant strain at every p
         }
         StateStore states(static_cast<std::size_t>(el.num_points(el.required_shape())), 0);
         evaluate(el, X, u, mat, &states);
-        Eigen::MatrixX2d xp;
+        Eigen::MatrixXd xp;
         el.point_coordinates(ElementData{7, el.required_shape(), &X}, xp);
         for (std::size_t p = 0; p < states.points(); ++p) {
           const double x = xp(static_cast<Eigen::Index>(p), 0), y = xp(static_cast<Eigen::Index>(p), 1);
@@ -176,7 +176,7 @@ TEST_CASE("tri: stiffness null space, symmetry and the finite-difference tangent
         INFO(n << " nodes, " << rule << " points, "
                << (form == Formulation::axisymmetric ? "axisym" : "plane"));
         const tri::TriElement el({form, n, rule});
-        const Eigen::MatrixX2d X = curved_cell(n);
+        const Eigen::MatrixXd X = curved_cell(n);
         const Eigen::MatrixXd K = evaluate(el, X, Eigen::VectorXd::Zero(2 * n), lin).stiffness;
         CHECK((K - K.transpose()).norm() <= 1e-12 * K.norm());
         // Zero modes: rigid translations and rotation in plane strain (3); in axisymmetry only
@@ -212,7 +212,7 @@ TEST_CASE("tri: body force totals the weight of the cell", "[tri]") {
   // equals the shoelace area of the 6-node boundary polygon plus the parabolic segments (checked
   // here with the straight-sided 3-node cell, whose area is exact).
   const tri::TriElement el({Formulation::plane_strain, 3, 1});
-  const Eigen::MatrixX2d X = curved_cell(3);
+  const Eigen::MatrixXd X = curved_cell(3);
   const double area =
       0.5 * ((X(1, 0) - X(0, 0)) * (X(2, 1) - X(0, 1)) - (X(2, 0) - X(0, 0)) * (X(1, 1) - X(0, 1)));
   Eigen::VectorXd f;
@@ -236,7 +236,7 @@ TEST_CASE("tri: a cell of the wrong topology is refused with a hint", "[tri]") {
         "tri3 element: the cell is an 8-node quadrilateral, but tri3 needs a 3-node triangle; use element = "
         "\"quad\" for quadrilaterals");
   // A clockwise cell has a negative Jacobian: located by check_geometry.
-  Eigen::MatrixX2d X = curved_cell(3);
+  Eigen::MatrixXd X = curved_cell(3);
   X.row(1).swap(X.row(2));
   CHECK(error_of([&] {
           t3.check_geometry(ElementData{5, tri::tri3_shape, &X});
@@ -416,9 +416,9 @@ TEST_CASE("tri: Lamé cylinder, axisymmetric, the scene inputs/verification/lame
   // Hoop stress at the integration points nearest the inner face (within 0.05 m): the field
   // varies as 1/r^2, so compare with the closed form at each point's own radius.
   const auto& dm = m.domains.at(0);
-  Eigen::MatrixX2d xp;
+  Eigen::MatrixXd xp;
   std::vector<int> nodes;
-  Eigen::MatrixX2d x;
+  Eigen::MatrixXd x;
   double s_err = 0;
   int near = 0;
   for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
