@@ -6,6 +6,7 @@
 #include "toml_check.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -31,6 +32,20 @@ const std::vector<std::string>& recorder_quantities(const std::string& kind) {
 namespace {
 
 const std::vector<std::string>& allowed(const std::string& kind) { return recorder_quantities(kind); }
+
+/// A name a field may have: a letter, then letters, digits and underscores.
+bool is_field_name(const std::string& s) {
+  if (s.empty() || !std::isalpha(static_cast<unsigned char>(s[0]))) return false;
+  return std::all_of(s.begin(), s.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
+}
+
+/// The field of a node recorder's field quantity: "p" and "p_reaction" are both field "p".
+std::string field_of(const std::string& q) {
+  const std::string suffix = "_reaction";
+  return q.size() > suffix.size() && q.compare(q.size() - suffix.size(), suffix.size(), suffix) == 0
+             ? q.substr(0, q.size() - suffix.size())
+             : q;
+}
 
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
@@ -112,8 +127,16 @@ RecorderSpec read_recorder(const toml::table& t, const std::string& ctx, const U
     if (!arr || arr->empty())
       throw Error(location(*q), ctx + " quantities must be a non-empty list of names, e.g. [\"" + names[0] +
                                     "\"]; allowed: " + joined(names));
+    const bool node_kind = r.kind == "node" || r.kind == "nodes";
     for (const auto& e : *arr) {
       const auto v = e.value<std::string>();
+      // Node recorders also record the scene's other fields by name ("p", and its reaction
+      // "p_reaction"); which fields there are is known once the domains are built (Recorder).
+      if (v && node_kind && std::find(names.begin(), names.end(), *v) == names.end() && is_field_name(*v)) {
+        r.quantities.push_back(*v);
+        r.quantity_at.push_back(location(e));
+        continue;
+      }
       if (!v || std::find(names.begin(), names.end(), *v) == names.end())
         throw Error(location(e), ctx + " quantities contains " + io::show(e) + ", which kind = \"" + r.kind +
                                      "\" does not record; allowed: " + joined(names));
@@ -179,6 +202,19 @@ Recorder::Recorder(const RecorderSpec& spec, const Model& model)
       throw Error(spec.at_at, m.str());
     }
     nodes_ = {best};
+  }
+  // Field quantities of node recorders: each names a field of the scene's elements.
+  std::size_t extra = 0;
+  for (const auto& q : quantities_) {
+    const auto& names = allowed(kind_);
+    if (std::find(names.begin(), names.end(), q) != names.end()) continue;
+    const SourceLocation at = extra < spec.quantity_at.size() ? spec.quantity_at[extra] : spec.where;
+    ++extra;
+    const int f = model.dofs.field(field_of(q));
+    if (f < 0 || f < model.dim())
+      throw Error(at, ctx + " quantities: \"" + q + "\" is not a quantity of kind = \"" + kind_ + "\" (" +
+                          joined(names) + ") nor a field of the scene's elements or its reaction (fields: " +
+                          model.dofs.field_list() + "; e.g. \"p\", \"p_reaction\")");
   }
 }
 
@@ -251,8 +287,23 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
   } else {
     v = {lambda, static_cast<double>(iterations), static_cast<double>(stage - 1) + lambda};
   }
-  for (const auto& q : quantities_)
-    r.values.push_back(v[static_cast<std::size_t>(std::find(names.begin(), names.end(), q) - names.begin())]);
+  for (const auto& q : quantities_) {
+    const auto it = std::find(names.begin(), names.end(), q);
+    if (it != names.end()) {
+      r.values.push_back(v[static_cast<std::size_t>(it - names.begin())]);
+      continue;
+    }
+    // A field quantity (node recorders): the mean value over the nodes that carry the field, or
+    // the sum of its reactions.
+    const int f = m.dofs.field(field_of(q));
+    const bool want_reaction = q != field_of(q);
+    double sum = 0.0;
+    int count = 0;
+    for (int n : nodes_)
+      if (const int d = m.dofs.dof(n, f); d >= 0) sum += want_reaction ? reaction(d) : m.u[d], ++count;
+    r.values.push_back(want_reaction || count == 0 ? (count ? sum : std::numeric_limits<double>::quiet_NaN())
+                                                   : sum / count);
+  }
   rows_.push_back(std::move(r));
 }
 

@@ -6,6 +6,9 @@
 //   kind = "node"    at = [x, y]  one node (within 1e-6 of the mesh's size of `at`):
 //                                 ux, uy (m), rx, ry (kN: the reaction, on constrained DOFs)
 //   kind = "nodes"   set = "..."  a node or edge set: ux, uy (mean, m), rx, ry (sum of reactions, kN)
+//                                 both node kinds also record the scene's other fields by name: "p"
+//                                 (the mean over the nodes that carry it) and "p_reaction" (the sum
+//                                 of its reactions), in the field's units
 //   kind = "point"   at = [x, y]  the integration point of an active cell nearest to `at`
 //                                 (chosen anew at each step: cells may be placed or removed):
 //                                 x, y (m, where it is), sxx, syy, szz, sxy (kPa, tension positive),
@@ -60,6 +63,9 @@ struct RecorderRow {
 struct RecorderSpec {
   std::string context, name, kind, set;
   std::vector<std::string> quantities;
+  /// Where each field quantity of a node recorder (a name that is not one of the kind's, e.g.
+  /// "p") was written, in order: checked against the scene's fields when the model is built.
+  std::vector<SourceLocation> quantity_at;
   double at[2] = {0.0, 0.0};
   SourceLocation where, set_at, at_at;
 };

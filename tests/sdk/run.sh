@@ -19,6 +19,8 @@
 #    each must state [[checks]] and pass them (the Lamé cylinder's u(a), u(b)
 #    against the closed form); then runs the projects' own tests (ctest), i.e.
 #    the guide's test program test_kg_elastic;
+#    two_layer_flow.toml runs the guide's scalar-field element (example_diffusion) against
+#    the closed form of steady two-layer flow;
 # 6. the stage action and mesh generator plugins of the guide (lame_kg_staged.toml, run in
 #    step 5): manifests, descriptions, and their own schemas' located errors;
 # 7. the guide's calibration target: `stratum fit example_kg_elastic kg_triaxial.csv` gives back
@@ -205,6 +207,14 @@ while IFS= read -r s; do
 done < <(find "$example_src" -name '*.toml' | sort)
 [[ -s $work/out/lame_kg/lame_kg.pvd ]] || fail "no $work/out/lame_kg/lame_kg.pvd"
 ls "$work"/out/lame_kg/lame_kg_*.vtu >/dev/null 2>&1 || fail "no .vtu files in $work/out/lame_kg"
+# The scalar-field element: the scene ran above with its three checks (the closed form to 1e-10);
+# its head is written as the VTK point array "h".
+[[ -f $example_src/two_layer_flow.toml ]] || fail "the guide writes no two_layer_flow.toml"
+grep -qx "element example_diffusion" "$plugin_dir/example_diffusion.plugin" ||
+  fail "the manifest example_diffusion.plugin does not list 'element example_diffusion'"
+grep -lq 'Name="h"' "$work"/out/two_layer_flow/two_layer_flow_*.vtu ||
+  fail "the VTK output of two_layer_flow.toml has no point array h"
+echo "   two_layer_flow: the head h of example_diffusion at the closed form, and in the VTK files"
 
 step "the guide's tests (ctest): test_kg_elastic, material checks and Lamé u(a) against the closed form"
 for b in "${builds[@]}"; do

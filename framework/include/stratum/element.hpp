@@ -84,6 +84,12 @@ public:
     return type == CellType::quadrilateral || type == CellType::triangle;
   }
 
+  /// True when the element's domain must name a material (a [[domains]] `material`): the
+  /// default for area elements. An element that needs none (e.g. one of a scalar field that
+  /// carries its own conductivity) returns false; its domain then names none, and compute()
+  /// gets a placeholder material that it must not call.
+  [[nodiscard]] virtual bool needs_material() const { return true; }
+
   /// The unknowns the nodes of a cell of this type and shape carry (stratum/fields.hpp), which
   /// also fixes the local order of u, force and stiffness. The default: the displacement
   /// components of the cell's dimension at every node.

@@ -79,15 +79,17 @@ void scene::read_domains(const toml::table& root, PluginCatalog& catalog, Regist
     const std::string& ctx = d.context;
     d.cells = require_string(t, "cells", ctx);
     d.element = require_string(t, "element", ctx);
-    d.material = require_string(t, "material", ctx);
     d.cells_at = location(*t.get("cells"));
     d.element_at = location(*t.get("element"));
-    d.material_at = location(*t.get("material"));
-    auto mat = material_by_name.find(d.material);
-    if (mat == material_by_name.end())
-      throw Error(d.material_at, ctx + " material = \"" + d.material +
-                                     "\" is not defined; defined: " + key_list(material_by_name, d.material));
-    d.material_index = mat->second;
+    if (t.get("material")) {
+      d.material = require_string(t, "material", ctx);
+      d.material_at = location(*t.get("material"));
+      auto mat = material_by_name.find(d.material);
+      if (mat == material_by_name.end())
+        throw Error(d.material_at, ctx + " material = \"" + d.material +
+                                       "\" is not defined; defined: " + key_list(material_by_name, d.material));
+      d.material_index = mat->second;
+    }
     d.plugin = scene::plugin_table<Element>(catalog, registry, d.element, d.element_at,
                                             ctx + " element = \"" + d.element + "\"", t, ctx,
                                             scene::key_names(domain_keys), sc.units);
@@ -95,6 +97,20 @@ void scene::read_domains(const toml::table& root, PluginCatalog& catalog, Regist
     sc.domains.push_back(std::move(d));
   }
 }
+
+namespace {
+
+/// The material of a domain whose element takes none: holds no history and refuses every update.
+class NoMaterial final : public Material {
+public:
+  [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput&) const override {
+    return Outcome::failure(Status::material_failure, "element " + std::to_string(in.where.element) +
+                                                          " called the material of a domain that has none");
+  }
+  [[nodiscard]] bool is_linear() const override { return true; }
+};
+
+} // namespace
 
 void Analysis::Impl::build_domains(const scene::Scene& sc) {
   if (sc.domains.empty()) throw Error(sc.at, "scene has no [[domains]]: nothing to analyse");
@@ -117,7 +133,19 @@ void Analysis::Impl::build_domains(const scene::Scene& sc) {
     dm.name = d.cells;
     dm.set_id = static_cast<int>(i);
     dm.element = elements.back().get();
-    dm.law.material = materials[d.material_index].get();
+    if (elements.back()->needs_material() && d.material.empty())
+      throw Error(d.element_at, ctx + " element = \"" + d.element +
+                                    "\" needs a material: add material = \"<name of a [materials.<name>] table>\"");
+    if (!elements.back()->needs_material() && !d.material.empty())
+      throw Error(d.material_at, ctx + " element = \"" + d.element + "\" takes no material; remove material = \"" +
+                                     d.material + "\"");
+    if (d.material.empty()) {
+      // The element takes none: a placeholder that no element may call (history size 0).
+      materials.push_back(std::make_unique<NoMaterial>());
+      dm.law.material = materials.back().get();
+    } else {
+      dm.law.material = materials[d.material_index].get();
+    }
     dm.cells = cs->second;
     for (const int cell : dm.cells) {
       if (owner[cell] >= 0)
@@ -151,8 +179,18 @@ void scene::read_constraints(const toml::table& root, Scene& sc) {
       c.value[static_cast<std::size_t>(k)] = p.real(key);
       c.value_at[static_cast<std::size_t>(k)] = p.where(key);
     }
-    if (!c.value[0] && !c.value[1])
-      throw Error(c.at, "[[constraints]] nodes = \"" + c.nodes + "\" constrains nothing; give ux and/or uy");
+    if (t->get("field") || t->get("value")) {
+      if (!t->get("field") || !t->get("value"))
+        throw Error(c.at, "[[constraints]] nodes = \"" + c.nodes + "\": `field` and `value` go together");
+      c.field = p.text("field"), c.field_at = p.where("field");
+      c.field_value = p.real("value"), c.field_value_at = p.where("value");
+      if (c.field == "ux" || c.field == "uy")
+        throw Error(c.field_at, "[[constraints]] field = \"" + c.field + "\": write the displacement as " +
+                                    c.field + " = VALUE");
+    }
+    if (!c.value[0] && !c.value[1] && c.field.empty())
+      throw Error(c.at, "[[constraints]] nodes = \"" + c.nodes +
+                            "\" constrains nothing; give ux and/or uy, or field and value");
     sc.constraints.push_back(std::move(c));
   }
 }
@@ -183,6 +221,29 @@ void Analysis::Impl::build_constraints(const scene::Scene& sc) {
         model.prescribed[static_cast<Eigen::Index>(d)] = v;
       }
     }
+  }
+  for (const auto& c : sc.constraints) {
+    if (c.field.empty()) continue;
+    const int f = model.dofs.field(c.field);
+    if (f < 0)
+      throw Error(c.field_at, "[[constraints]] field = \"" + c.field +
+                                  "\" is not a field of the scene's elements; the scene has: " +
+                                  model.dofs.field_list());
+    int carried = 0;
+    for (int n : model.mesh.node_sets.at(c.nodes)) {
+      const int dof = model.dofs.dof(n, f);
+      if (dof < 0) continue;
+      ++carried;
+      const auto d = static_cast<std::size_t>(dof);
+      if (fixed[d] && model.prescribed[dof] != c.field_value)
+        throw Error(c.field_value_at, "[[constraints]] " + c.field + " on node " + std::to_string(n) +
+                                          " contradicts an earlier constraint");
+      fixed[d] = 1;
+      model.prescribed[dof] = c.field_value;
+    }
+    if (carried == 0)
+      throw Error(c.field_at, "[[constraints]] field = \"" + c.field + "\": no node of \"" + c.nodes +
+                                  "\" carries it");
   }
   // Nodes that no active cell uses carry no stiffness: rebuild_dofs() fixes them too.
   model.constrained = fixed;

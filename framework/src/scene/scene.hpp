@@ -102,6 +102,9 @@ struct ConstraintSpec {
   SourceLocation at, nodes_at;
   std::array<std::optional<double>, 2> value; ///< ux, uy
   std::array<SourceLocation, 2> value_at;
+  std::string field; ///< another field by name (`field` and `value`), empty when none
+  double field_value = 0.0;
+  SourceLocation field_at, field_value_at;
 };
 
 /// One [[stages.actions]] (or [[loads]]) table: its action's factory and checked parameters.

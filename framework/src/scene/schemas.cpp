@@ -218,6 +218,11 @@ Schema constraint_schema() {
   s.text("nodes", {}, "node or edge set whose nodes are fixed or moved");
   s.real("ux", "m", "prescribed x (radial) displacement at load factor 1").defaults_to(0.0);
   s.real("uy", "m", "prescribed y (vertical) displacement at load factor 1").defaults_to(0.0);
+  s.text("field", {},
+         "another unknown the domains' elements declare, by name (e.g. p, a pore pressure; `stratum check` "
+         "lists the scene's fields), prescribed to `value`")
+      .defaults_to(std::string());
+  s.real("value", "-", "prescribed value of `field`, in that field's unit in the scene's [units]").defaults_to(0.0);
   return s;
 }
 
@@ -225,7 +230,10 @@ Schema domain_schema() {
   Schema s;
   s.text("cells", {}, "cell set of the domain; every cell of the mesh belongs to exactly one domain");
   s.text("element", {}, "element plugin (stratum plugins: kind element); its parameters go in this table");
-  s.text("material", {}, "name of a [materials.<name>] table");
+  s.text("material", {},
+         "name of a [materials.<name>] table (required unless the element takes none, e.g. an element of a "
+         "scalar field with its own conductivity)")
+      .defaults_to(std::string());
   return s;
 }
 
