@@ -220,9 +220,12 @@ public:
   void point_coordinates(const ElementData& cell, Eigen::MatrixXd& xp) const override {
     const int n = check_cell(cell);
     const auto& pts = rule_.points(cell.shape);
+    // Two columns known at compile time: the product sums in the order it always has (the
+    // coordinates, and the geostatic stresses computed from them, bit for bit).
+    const Eigen::MatrixX2d X = *cell.x;
     xp.resize(rule_.size(), 2);
     for (int i = 0; i < rule_.size(); ++i)
-      xp.row(i) = pts[static_cast<std::size_t>(i)].N.head(n).transpose() * (*cell.x);
+      xp.row(i) = pts[static_cast<std::size_t>(i)].N.head(n).transpose() * X;
   }
 
   /// dV_i / sum dV (dV = w detJ, times 2 pi r in axisymmetry). Falls back to equal weights

@@ -211,9 +211,10 @@ public:
 
   void point_coordinates(const ElementData& cell, Eigen::MatrixXd& xp) const override {
     check_cell(cell);
+    const Eigen::MatrixX2d X = *cell.x; // two columns known at compile time, as the quad's
     xp.resize(static_cast<Eigen::Index>(table_.size()), 2);
     for (std::size_t i = 0; i < table_.size(); ++i)
-      xp.row(static_cast<Eigen::Index>(i)) = table_[i].N.transpose() * (*cell.x);
+      xp.row(static_cast<Eigen::Index>(i)) = table_[i].N.transpose() * X;
   }
 
   /// dV_i / sum dV; equal weights for a degenerate cell.

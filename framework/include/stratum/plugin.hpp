@@ -12,7 +12,8 @@
 
 #include "stratum/registry.hpp"
 
-/// Bumped whenever an interface in stratum/*.hpp changes in a binary-incompatible way.
+/// Bumped whenever an interface in stratum/*.hpp changes in a binary-incompatible way; every
+/// version, what changed and how to port a plugin: docs/plugin-abi.md.
 #define STRATUM_PLUGIN_ABI_VERSION 9
 
 #define STRATUM_PLUGIN(registry_name)                                                                        \

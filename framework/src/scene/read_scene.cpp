@@ -230,6 +230,10 @@ void Analysis::Impl::build(scene::Scene sc) {
   fp << "nodes " << model.mesh.nodes.size() << " cells " << model.mesh.cells.size();
   for (const auto& dm : model.domains)
     fp << " domain " << dm.name << ':' << dm.states.points() << 'x' << dm.states.stride();
+  // The unknowns when the scene has fields besides the displacement (a checkpoint of a
+  // displacement-only scene keeps the fingerprint it had before fields existed).
+  if (model.dofs.fields.size() > static_cast<std::size_t>(model.dim()))
+    fp << " fields " << model.dofs.field_list() << " unknowns " << model.dofs.total();
   fp << " stages";
   for (const auto& st : stages) fp << ' ' << st.name;
   fingerprint = fp.str();
