@@ -261,6 +261,18 @@ TEST_CASE("cli: unknown key", "[cli]") {
                         "[materials.soil] unknown key 'mu'; allowed: model, ");
 }
 
+TEST_CASE("cli: [output] pile_head is no longer a key: the pile head is the load action's", "[cli]") {
+  // pile_head was declared and documented but never read (the head the curves follow is the set the
+  // `load` action loads or pushes down), so `pile_head = "no_such_set"` was accepted; it is refused now
+  // like any unknown key, located, with the keys [output] has.
+  const auto path = write_scene("pile_head.toml", good + "[output]\npile_head = \"no_such_set\"\n");
+  REQUIRE(lines(good) == 37);
+  const auto r = stratum("check " + path);
+  expect_one_line_error(r, path + ":39:1 ",
+                        "[output] unknown key 'pile_head'; allowed: history, vtk, integration_points, every, "
+                        "pile_cells, tables_every");
+}
+
 TEST_CASE("cli: wrong type", "[cli]") {
   const auto path = write_scene("wrong_type.toml", edit("E = 1000.0", "E = \"stiff\""));
   expect_one_line_error(stratum("check " + path), path + ":22:5 ",

@@ -2,6 +2,8 @@
 # STRATUM_EXTRA_PACKAGES adds Debian packages to install (tools/bench: calculix-ccx, matplotlib).
 # STRATUM_CMAKE_ARGS (a bash array set before sourcing) adds options to the first configure
 # (tools/ci_sanitize: clang and the sanitizers).
+# STRATUM_NO_BUILD=1 installs the packages only (tools/check_format, tools/check_tidy: they need no
+# build; tools/check_tidy then calls stratum_configure for the compile_commands.json).
 # Installs the Debian packages Stratum needs when they are missing, then
 # configures and builds the Release tree in build/release.
 set -euo pipefail
@@ -12,6 +14,7 @@ STRATUM_PACKAGES=(cmake ninja-build g++ gfortran pkg-config libeigen3-dev libboo
   libsundials-dev libtomlplusplus-dev catch2 libsuitesparse-dev libopenblas0-pthread python3-matplotlib python3-vtk9
   libopenmpi-dev openmpi-bin
   clang libclang-rt-14-dev llvm # tools/ci_sanitize: sanitizers, libFuzzer, llvm-symbolizer for the reports
+  clang-format clang-tidy git   # tools/check_format, tools/check_tidy (docs/testing.md, "Style and tidy checks")
   ${STRATUM_EXTRA_PACKAGES:-})
 
 stratum_install_packages() {
@@ -28,7 +31,7 @@ stratum_install_packages() {
   fi
 }
 
-stratum_build() {
+stratum_configure() {
   # Configure once; afterwards the build re-runs CMake itself when a CMakeLists.txt changes, and
   # a tree configured otherwise (STRATUM_BUILD=build/debug, as the loess-pile CTest case passes
   # its own tree) keeps its build type.
@@ -41,6 +44,10 @@ stratum_build() {
   [[ -f "$STRATUM_BUILD/CMakeCache.txt" && (-f "$STRATUM_BUILD/build.ninja" || -f "$STRATUM_BUILD/Makefile") ]] ||
     cmake -S "$STRATUM_ROOT" -B "$STRATUM_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" \
       ${STRATUM_CMAKE_ARGS[@]+"${STRATUM_CMAKE_ARGS[@]}"} >/dev/null
+}
+
+stratum_build() {
+  stratum_configure
   # getconf, not nproc: nproc honours the OMP_NUM_THREADS=1 exported below and built on one core.
   cmake --build "$STRATUM_BUILD" -j "$(getconf _NPROCESSORS_ONLN)"
 }
@@ -52,4 +59,4 @@ export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}"
 export OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}"
 
 stratum_install_packages
-stratum_build
+[[ "${STRATUM_NO_BUILD:-0}" == 1 ]] || stratum_build

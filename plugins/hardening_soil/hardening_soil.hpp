@@ -794,8 +794,8 @@ private:
       for (int k = 0; k < n && ok; ++k) {
         const Vec6 tr = s + dtrial / n;
         const Eigen::SelfAdjointEigenSolver<Mat3> es(stress_tensor(tr));
-        const Vec3 lam = es.eigenvalues();
-        const Mat3 V = es.eigenvectors();
+        const Vec3& lam = es.eigenvalues();
+        const Mat3& V = es.eigenvectors();
         const ReturnResult r = ret_(-lam, q, Dp);
         if (!r.ok) {
           ok = false;

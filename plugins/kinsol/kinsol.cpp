@@ -12,8 +12,12 @@
 //   fixed_point: u_(k+1) = G(u_k) = u_k + K(u_0)^-1 R(u_k), accelerated by Anderson (depth
 //                `anderson`)
 //
-// After KINSOL returns, the residual is evaluated at its u and the [convergence]
-// force test decides; KINSOL's return flags become statuses.
+// KINSOL's own stopping test stays (it iterates inside KINSol, so the shared per-iterate
+// check of stratum/iteration.hpp cannot run between its iterations); its tolerance is
+// derived from iteration::force_bound, the bound of every solver's force test. Before
+// KINSOL starts and after it returns, the residual is evaluated and the shared force test
+// (iteration::force_test) decides; KINSOL's return flags become statuses. The energy and
+// displacement tests of [convergence] are not applied (README.md).
 #include "stratum/iteration.hpp"
 #include "stratum/plugin.hpp"
 
@@ -183,8 +187,9 @@ public:
 
     // The residual at the start fixes the force bound; picard and fixed point factorize K(u_0).
     if (auto o = problem.evaluate(u, req.lambda, cb.r, &cb.k); !o.ok()) return fail(rep, o);
-    const double bound0 = std::max(conv.force_rtol * problem.force_scale(req.lambda), conv.force_atol);
-    if (cb.r.norm() <= bound0) {
+    const double scale0 = problem.force_scale(req.lambda);
+    const double bound0 = iteration::force_bound(conv, scale0);
+    if (iteration::force_test(conv, cb.r.norm(), scale0)) {
       rep.residual_norms.push_back(cb.r.norm());
       return rep;
     }
@@ -266,10 +271,11 @@ public:
     if (auto o = problem.evaluate(u, req.lambda, cb.r, nullptr); !o.ok()) return fail(rep, o);
     const double rn = cb.r.norm();
     rep.residual_norms.push_back(rn);
-    const double bound = std::max(conv.force_rtol * problem.force_scale(req.lambda), conv.force_atol);
-    if (!(rn <= bound)) {
+    const double force_scale = problem.force_scale(req.lambda);
+    if (!iteration::force_test(conv, rn, force_scale)) {
       std::ostringstream m;
-      m << "KINSOL stopped (flag " << flag << ") at |R| = " << rn << " above the bound " << bound;
+      m << "KINSOL stopped (flag " << flag << ") at |R| = " << rn << " above the bound "
+        << iteration::force_bound(conv, force_scale);
       return fail(rep, {Status::not_converged, m.str()});
     }
     return rep;

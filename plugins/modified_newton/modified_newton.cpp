@@ -78,7 +78,7 @@ public:
       if (it >= c.max_iterations) {
         std::ostringstream m;
         m << name() << " did not converge in " << c.max_iterations << " iterations: |R| = " << rn
-          << ", bound " << std::max(c.force_rtol * scale, c.force_atol);
+          << ", bound " << iteration::force_bound(c, scale);
         return fail(rep, {Status::not_converged, m.str()});
       }
       if (refresh) {

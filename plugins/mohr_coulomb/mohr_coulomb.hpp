@@ -426,8 +426,8 @@ struct ExactResult {
                                               bool want_tangent = true) {
   ExactResult out;
   const Eigen::SelfAdjointEigenSolver<Mat3> es(stress_tensor(trial));
-  const Vec3 lam = es.eigenvalues();
-  const Mat3 V = es.eigenvectors();
+  const Vec3& lam = es.eigenvalues();
+  const Mat3& V = es.eigenvectors();
   const PrincipalReturn pr = ret(lam);
   out.ok = pr.ok;
   out.active = pr.active;

@@ -96,14 +96,14 @@ public:
           std::ostringstream m;
           m << "Newton not converging: |R| = " << rn << " after " << it << " iterations, above "
             << stall_factor_ << " x its value " << stall_iterations_ << " iterations before (" << before
-            << "), bound " << std::max(c.force_rtol * scale, c.force_atol);
+            << "), bound " << iteration::force_bound(c, scale);
           return fail(rep, {Status::not_converged, m.str()});
         }
       }
       if (it >= c.max_iterations) {
         std::ostringstream m;
         m << "Newton did not converge in " << c.max_iterations << " iterations: |R| = " << rn << ", bound "
-          << std::max(c.force_rtol * scale, c.force_atol);
+          << iteration::force_bound(c, scale);
         return fail(rep, {Status::not_converged, m.str()});
       }
       if (auto o = problem.linear_solver().factorize(k); !o.ok()) return fail(rep, o);

@@ -26,6 +26,7 @@
 #include "docs_section.hpp"
 #include "machine.hpp"
 #include "stratum/analysis.hpp"
+#include "stratum/iteration.hpp"
 #include "stratum/linear_solver.hpp"
 #include "stratum/material.hpp"
 #include "stratum/model.hpp"
@@ -343,7 +344,7 @@ Sample measure(Problem problem, const Size& s, const std::string& plugin_dir, do
       const Eigen::VectorXd load = m.load_base + lambda * m.load_ref;
       res = m.restrict_free(load - f_int);
       const double scale = std::max(load.norm(), f_int.norm());
-      if (res.norm() <= std::max(newton_rtol * scale, newton_atol)) break;
+      if (res.norm() <= stratum::iteration::bound(newton_rtol, scale, newton_atol)) break;
       if (it >= newton_max_iterations)
         throw stratum::Error("Newton did not converge at lambda = " + std::to_string(lambda));
       c0 = cpu_seconds();

@@ -77,8 +77,8 @@ struct RunSummary {
   std::vector<std::string> checkpoints; ///< written, in order
   std::vector<CheckResult> checks;      ///< the scene's [[checks]] on the last recorded values
   /// Head load (kN) and settlement (mm; in other [units]: force, Units::small_length) per converged level of
-  /// the loaded stage(s) with a `load` action (starting at 0, 0), when [output] pile_head names the head
-  /// edges.
+  /// the stage(s) with a `load` action (starting at 0, 0): the head is that action's `edges` or the top
+  /// faces of its `cells`, loaded by its force or pushed down by its `settlement` (StageState::head_load).
   std::vector<std::array<double, 2>> load_settlement;
   /// With [output] pile_cells as well: per recorded level, load_kN, head_mm, pile_shortening_mm,
   /// base_mm, shaft_slip_mean_mm, shaft_slip_top_mm, shaft_load_kN, base_load_kN, each a change

@@ -1,5 +1,6 @@
 // Building blocks shared by the iterative Solver plugins (newton, modified_newton,
-// initial_stiffness, arc_length, displacement_control): the convergence test of
+// initial_stiffness, arc_length, displacement_control; kinsol takes its force test and
+// its tolerance from here): the bound of a convergence test, the convergence test of
 // one iterate and a backtracking line search. Header-only so that plugins built
 // against an installed framework get them without a new exported symbol.
 #pragma once
@@ -10,6 +11,23 @@
 #include <cmath>
 
 namespace stratum::iteration {
+
+/// The bound of a convergence test, written once for every solver: a quantity passes when it is at
+/// most the relative bound rtol * scale or the absolute bound atol, whichever is larger.
+[[nodiscard]] inline double bound(double rtol, double scale, double atol) {
+  return std::max(rtol * scale, atol);
+}
+
+/// The force test's bound at a force scale (NonlinearProblem::force_scale):
+/// max(force_rtol * force_scale, force_atol).
+[[nodiscard]] inline double force_bound(const Convergence& c, double force_scale) {
+  return bound(c.force_rtol, force_scale, c.force_atol);
+}
+
+/// The force test: |R| = residual within force_bound (false for NaN).
+[[nodiscard]] inline bool force_test(const Convergence& c, double residual, double force_scale) {
+  return residual <= force_bound(c, force_scale);
+}
 
 /// The convergence tests of Convergence at one iterate. `residual` is |R| at the iterate,
 /// `correction` the last correction du that led to it (empty before the first one),
@@ -26,10 +44,10 @@ struct Check {
                                  bool have_correction, double correction, double step, double work,
                                  double work0) {
   Check k;
-  k.force = residual <= std::max(c.force_rtol * force_scale, c.force_atol);
-  if (c.energy_rtol > 0) k.energy = have_correction && work <= std::max(c.energy_rtol * work0, c.energy_atol);
+  k.force = force_test(c, residual, force_scale);
+  if (c.energy_rtol > 0) k.energy = have_correction && work <= bound(c.energy_rtol, work0, c.energy_atol);
   if (c.displacement_test)
-    k.displacement = have_correction && correction <= std::max(c.disp_rtol * step, c.disp_atol);
+    k.displacement = have_correction && correction <= bound(c.disp_rtol, step, c.disp_atol);
   return k;
 }
 

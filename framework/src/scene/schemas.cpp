@@ -193,8 +193,6 @@ TableKeys output_keys() {
   s.integer("every", "-", "write every n-th step (the last step is always written)")
       .at_least(1)
       .defaults_to(1LL);
-  s.text("pile_head", {}, "edge set of the loaded pile head: curves/load_settlement.csv")
-      .defaults_to(std::string());
   s.text("pile_cells", {}, "cell set of the pile: curves/axial_force.csv").defaults_to(std::string());
   s.real("tables_every", "s",
          "diagnostics.csv and the curves are rewritten (atomically) at every stage's end and at most "
