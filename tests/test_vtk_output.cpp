@@ -22,8 +22,8 @@
 #include <vector>
 
 namespace fs = std::filesystem;
-using stratum::OutputArray;
 using stratum::Mesh;
+using stratum::OutputArray;
 using stratum::OutputStep;
 using stratum::VtkSeriesWriter;
 

@@ -317,8 +317,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
     const auto& m = analysis->model();
     std::cout << scene << ": ok (" << m.mesh.nodes.size() << " nodes, " << m.mesh.cells.size() << " cells, "
               << m.dofs.free_count << " unknowns of fields " << m.dofs.field_list() << ", "
-              << analysis->opened_libraries().size()
-              << " plugin libraries"
+              << analysis->opened_libraries().size() << " plugin libraries"
               << (analysis->units().is_default() ? "" : ", units " + analysis->units().describe()) << ")\n";
     return 0;
   }

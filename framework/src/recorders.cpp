@@ -36,7 +36,8 @@ const std::vector<std::string>& allowed(const std::string& kind) { return record
 /// A name a field may have: a letter, then letters, digits and underscores.
 bool is_field_name(const std::string& s) {
   if (s.empty() || !std::isalpha(static_cast<unsigned char>(s[0]))) return false;
-  return std::all_of(s.begin(), s.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
+  return std::all_of(s.begin(), s.end(),
+                     [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
 }
 
 /// The field of a node recorder's field quantity: "p" and "p_reaction" are both field "p".

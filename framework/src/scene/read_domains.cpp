@@ -86,8 +86,8 @@ void scene::read_domains(const toml::table& root, PluginCatalog& catalog, Regist
       d.material_at = location(*t.get("material"));
       auto mat = material_by_name.find(d.material);
       if (mat == material_by_name.end())
-        throw Error(d.material_at, ctx + " material = \"" + d.material +
-                                       "\" is not defined; defined: " + key_list(material_by_name, d.material));
+        throw Error(d.material_at, ctx + " material = \"" + d.material + "\" is not defined; defined: " +
+                                       key_list(material_by_name, d.material));
       d.material_index = mat->second;
     }
     d.plugin = scene::plugin_table<Element>(catalog, registry, d.element, d.element_at,
@@ -134,11 +134,12 @@ void Analysis::Impl::build_domains(const scene::Scene& sc) {
     dm.set_id = static_cast<int>(i);
     dm.element = elements.back().get();
     if (elements.back()->needs_material() && d.material.empty())
-      throw Error(d.element_at, ctx + " element = \"" + d.element +
-                                    "\" needs a material: add material = \"<name of a [materials.<name>] table>\"");
+      throw Error(d.element_at,
+                  ctx + " element = \"" + d.element +
+                      "\" needs a material: add material = \"<name of a [materials.<name>] table>\"");
     if (!elements.back()->needs_material() && !d.material.empty())
-      throw Error(d.material_at, ctx + " element = \"" + d.element + "\" takes no material; remove material = \"" +
-                                     d.material + "\"");
+      throw Error(d.material_at, ctx + " element = \"" + d.element +
+                                     "\" takes no material; remove material = \"" + d.material + "\"");
     if (d.material.empty()) {
       // The element takes none: a placeholder that no element may call (history size 0).
       materials.push_back(std::make_unique<NoMaterial>());
@@ -226,9 +227,9 @@ void Analysis::Impl::build_constraints(const scene::Scene& sc) {
     if (c.field.empty()) continue;
     const int f = model.dofs.field(c.field);
     if (f < 0)
-      throw Error(c.field_at, "[[constraints]] field = \"" + c.field +
-                                  "\" is not a field of the scene's elements; the scene has: " +
-                                  model.dofs.field_list());
+      throw Error(c.field_at,
+                  "[[constraints]] field = \"" + c.field +
+                      "\" is not a field of the scene's elements; the scene has: " + model.dofs.field_list());
     int carried = 0;
     for (int n : model.mesh.node_sets.at(c.nodes)) {
       const int dof = model.dofs.dof(n, f);
@@ -242,8 +243,8 @@ void Analysis::Impl::build_constraints(const scene::Scene& sc) {
       model.prescribed[dof] = c.field_value;
     }
     if (carried == 0)
-      throw Error(c.field_at, "[[constraints]] field = \"" + c.field + "\": no node of \"" + c.nodes +
-                                  "\" carries it");
+      throw Error(c.field_at,
+                  "[[constraints]] field = \"" + c.field + "\": no node of \"" + c.nodes + "\" carries it");
   }
   // Nodes that no active cell uses carry no stiffness: rebuild_dofs() fixes them too.
   model.constrained = fixed;

@@ -220,7 +220,8 @@ Schema constraint_schema() {
          "another unknown the domains' elements declare, by name (e.g. p, a pore pressure; `stratum check` "
          "lists the scene's fields), prescribed to `value`")
       .defaults_to(std::string());
-  s.real("value", "-", "prescribed value of `field`, in that field's unit in the scene's [units]").defaults_to(0.0);
+  s.real("value", "-", "prescribed value of `field`, in that field's unit in the scene's [units]")
+      .defaults_to(0.0);
   return s;
 }
 
