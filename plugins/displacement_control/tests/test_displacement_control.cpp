@@ -1,7 +1,7 @@
 // Tests of the `displacement_control` solver plugin on spring systems with closed-form paths
 // (tests/spring_problems.hpp):
 // - a sinh spring driven to a prescribed displacement: after n steps of d the controlled DOF is
-//   n d (1e-12) and the load factor F0 sinh(n d/e0)/P (1e-10), whatever the target lambda;
+//   n d (1e-12) and the load factor F0 sinh(n d/e0)/P (1e-10), in either direction;
 // - the shallow Mises truss (apex force F(w) = 2 k (L0 - L)(h - w)/L) under control of the apex:
 //   through both limit points of the load (snap-through under load control), every step
 //   w = k d (1e-12) and lambda P = F(w) (1e-9 of the force scale), the measured step size d;
@@ -10,7 +10,9 @@
 //   closed form; controlling the mean of both unknowns keeps (w + v)/2 = k d; controlling v jumps
 //   over the branch where v falls (between the turning points F'(w) = -k_s, bisection of the
 //   closed-form F') to the far branch, with every point on the closed form;
-// - configuration errors (unknown node set, dof out of range) are statuses, not exceptions.
+// - in one unknown a single correction gives lambda = f(d)/P (R is linear in lambda at fixed u);
+//   configuration errors (unknown node set, dof out of range, neither given) and max_iterations
+//   are statuses, not exceptions.
 #include "solver_helpers.hpp"
 #include "spring_problems.hpp"
 
