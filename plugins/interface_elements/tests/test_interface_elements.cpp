@@ -71,8 +71,8 @@ private:
 
 /// Rows: slots 0 (a), 1 (b) of body 1, 2 (partner of b), 3 (partner of a), then 4 (mid of body 1)
 /// and 6 (its partner) for the quadratic cell. The edge from a to b, straight.
-Eigen::MatrixX2d line_cell(const Vec2& a, const Vec2& b, bool quadratic) {
-  Eigen::MatrixX2d X(quadratic ? 6 : 4, 2);
+Eigen::MatrixXd line_cell(const Vec2& a, const Vec2& b, bool quadratic) {
+  Eigen::MatrixXd X(quadratic ? 6 : 4, 2);
   X.row(0) = a.transpose();
   X.row(1) = b.transpose();
   X.row(2) = b.transpose();
@@ -88,7 +88,7 @@ struct Evaluated {
   Outcome o;
   ElementResult r;
 };
-Evaluated evaluate(const Element& el, unsigned shape, const Eigen::MatrixX2d& X, const ContactLaw* law,
+Evaluated evaluate(const Element& el, unsigned shape, const Eigen::MatrixXd& X, const ContactLaw* law,
                    const Eigen::VectorXd& u) {
   StateStore states(static_cast<std::size_t>(el.num_points(shape)), law ? law->history_size() : 0);
   ElementData cell{7, shape, &X};
@@ -145,7 +145,7 @@ TEST_CASE("interface_line: stiffness equals int B^T D B dA in closed form", "[pl
     Mg << 2, 1, 1, 2;
     Mg *= L / 6.0;
     Mn << L / 2, 0, 0, L / 2;
-    const Eigen::MatrixX2d X = line_cell(a, b, false);
+    const Eigen::MatrixXd X = line_cell(a, b, false);
     for (const auto& [rule, M] : {std::pair{LineRule::gauss, Mg}, std::pair{LineRule::newton_cotes, Mn}}) {
       const InterfaceLine el(Formulation::plane_strain, rule);
       const auto e = evaluate(el, 0x0Fu, X, &law, Eigen::VectorXd::Zero(8));
@@ -158,7 +158,7 @@ TEST_CASE("interface_line: stiffness equals int B^T D B dA in closed form", "[pl
     Mg << 4, -1, 2, -1, 4, 2, 2, 2, 16;
     Mg *= L / 30.0;
     Mn.diagonal() << L / 6, L / 6, 2 * L / 3;
-    const Eigen::MatrixX2d X = line_cell(a, b, true);
+    const Eigen::MatrixXd X = line_cell(a, b, true);
     for (const auto& [rule, M] : {std::pair{LineRule::gauss, Mg}, std::pair{LineRule::newton_cotes, Mn}}) {
       const InterfaceLine el(Formulation::plane_strain, rule);
       const auto e = evaluate(el, 0x5Fu, X, &law, Eigen::VectorXd::Zero(12));
@@ -173,7 +173,7 @@ TEST_CASE("interface_line: stiffness equals int B^T D B dA in closed form", "[pl
     Mg *= 2 * pi * L / 12.0;
     Mn.diagonal() = Mg.rowwise().sum(); // Newton-Cotes: the row sums int N_k 2 pi r ds
     CHECK(Mn(0, 0) == Approx(pi * L * (2 * ra + rb) / 3.0).epsilon(1e-14)); // README's l pi (2 r_i + r_nb)/3
-    const Eigen::MatrixX2d X = line_cell(a, b, false);
+    const Eigen::MatrixXd X = line_cell(a, b, false);
     for (const auto& [rule, M] : {std::pair{LineRule::gauss, Mg}, std::pair{LineRule::newton_cotes, Mn}}) {
       const InterfaceLine el(Formulation::axisymmetric, rule);
       const auto e = evaluate(el, 0x0Fu, X, &law, Eigen::VectorXd::Zero(8));
@@ -191,7 +191,7 @@ TEST_CASE("interface_line: local axes, force equilibrium and the resultant of a 
   SECTION("axes: slip along a -> b, opening along (t_y, -t_x)") {
     // Horizontal edge a = (0, 0) -> b = (2, 0): t = (1, 0), n = (0, -1). Body 2 moved by (1, -2) mm
     // relative to body 1: slip 1 mm, opening 2 mm; tractions 20 kPa shear, 200 kPa tension.
-    const Eigen::MatrixX2d X = line_cell(Vec2(0, 0), Vec2(2, 0), false);
+    const Eigen::MatrixXd X = line_cell(Vec2(0, 0), Vec2(2, 0), false);
     const InterfaceLine el(Formulation::plane_strain, LineRule::gauss);
     Eigen::VectorXd u = Eigen::VectorXd::Zero(8);
     for (int k : {2, 3}) u.segment<2>(2 * k) = Vec2(1e-3, -2e-3);
@@ -217,7 +217,7 @@ TEST_CASE("interface_line: local axes, force equilibrium and the resultant of a 
     for (const bool quadratic : {false, true})
       for (const auto form : {Formulation::plane_strain, Formulation::axisymmetric})
         for (const auto rule : {LineRule::gauss, LineRule::newton_cotes}) {
-          const Eigen::MatrixX2d X = line_cell(a, b, quadratic);
+          const Eigen::MatrixXd X = line_cell(a, b, quadratic);
           const InterfaceLine el(form, rule);
           const int rows = static_cast<int>(X.rows());
           Eigen::VectorXd u = Eigen::VectorXd::Zero(2 * rows);
@@ -260,7 +260,7 @@ TEST_CASE("interface_line: tangent against central differences of the force",
   for (const bool quadratic : {false, true})
     for (const auto form : {Formulation::plane_strain, Formulation::axisymmetric})
       for (const auto rule : {LineRule::gauss, LineRule::newton_cotes}) {
-        const Eigen::MatrixX2d X = line_cell(a, b, quadratic);
+        const Eigen::MatrixXd X = line_cell(a, b, quadratic);
         const InterfaceLine el(form, rule);
         const unsigned shape = quadratic ? 0x5Fu : 0x0Fu;
         const int ndof = 2 * static_cast<int>(X.rows());
@@ -290,7 +290,7 @@ TEST_CASE("contact2: tributary area, blocks and agreement with interface_line",
   D << 2.0e4, 0.0, 0.0, 1.0e5;
   const LinearLaw law(D);
   // Node i at (1, 0) between prev (0, 0) and next (3, 0); its partner j coincident.
-  Eigen::MatrixX2d X(4, 2);
+  Eigen::MatrixXd X(4, 2);
   X << 1, 0, 1, 0, 0, 0, 3, 0;
   const Mat2 R = axes(Vec2(0, 0), Vec2(3, 0));
   // int N_i dA over the two segments: plane strain 1/2 + 2/2 = 1.5; axisymmetric
@@ -318,7 +318,7 @@ TEST_CASE("contact2: tributary area, blocks and agreement with interface_line",
     const InterfaceLine line(form, LineRule::newton_cotes);
     Vec2 sum = Vec2::Zero();
     for (const auto& [p, q] : {std::pair{Vec2(0, 0), Vec2(1, 0)}, std::pair{Vec2(1, 0), Vec2(3, 0)}}) {
-      const Eigen::MatrixX2d Y = line_cell(p, q, false);
+      const Eigen::MatrixXd Y = line_cell(p, q, false);
       Eigen::VectorXd v = Eigen::VectorXd::Zero(8);
       v.segment<2>(4) = delta, v.segment<2>(6) = delta;
       const auto li = evaluate(line, 0x0Fu, Y, &law, v);
@@ -330,7 +330,7 @@ TEST_CASE("contact2: tributary area, blocks and agreement with interface_line",
 }
 
 TEST_CASE("interface elements: a missing contact law is a status", "[plugins][interface_elements]") {
-  const Eigen::MatrixX2d X = line_cell(Vec2(0, 0), Vec2(1, 0), false);
+  const Eigen::MatrixXd X = line_cell(Vec2(0, 0), Vec2(1, 0), false);
   const InterfaceLine el(Formulation::plane_strain, LineRule::gauss);
   Evaluated e;
   REQUIRE_NOTHROW(e = evaluate(el, 0x0Fu, X, nullptr, Eigen::VectorXd::Zero(8)));
