@@ -317,8 +317,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
     const auto& m = analysis->model();
     std::cout << scene << ": ok (" << m.mesh.nodes.size() << " nodes, " << m.mesh.cells.size() << " cells, "
               << m.dofs.free_count << " unknowns of fields " << m.dofs.field_list() << ", "
-              << analysis->opened_libraries().size()
-              << " plugin libraries"
+              << analysis->opened_libraries().size() << " plugin libraries"
               << (analysis->units().is_default() ? "" : ", units " + analysis->units().describe()) << ")\n";
     return 0;
   }
@@ -348,10 +347,10 @@ int run(const std::vector<std::string>& args, bool check_only) {
               << " s\n"
               << std::defaultfloat;
   }
-  if (s.stop_reason == "collapse" || s.stop_reason == "numerical") {
+  if (s.stop_reason == StopReason::collapse || s.stop_reason == StopReason::numerical) {
     std::ostringstream ratio;
     ratio << std::setprecision(3) << s.stiffness_ratio;
-    if (s.stop_reason == "collapse")
+    if (s.stop_reason == StopReason::collapse)
       std::cout << "stopped: collapse: a load step found no equilibrium after its cut-backs, and the "
                    "structure had lost its stiffness (over the last tenth of the load, down to "
                 << ratio.str()
@@ -364,8 +363,9 @@ int run(const std::vector<std::string>& args, bool check_only) {
                    "the last converged level (see diagnostics.csv)\n";
     // The failed step's message (its residual may be NaN) is a diagnostic, not a result: stderr.
     std::cerr << "stratum: the step that stopped the run"
-              << (s.stop_reason == "collapse" ? " at the collapse: " : ": ") << s.stop_message << "\n";
-  } else if (s.stop_reason == "settlement")
+              << (s.stop_reason == StopReason::collapse ? " at the collapse: " : ": ") << s.stop_message
+              << "\n";
+  } else if (s.stop_reason == StopReason::settlement)
     std::cout << "stopped: the settlement limit of the stage is exceeded\n";
 
   if (!s.load_settlement.empty()) {
@@ -378,7 +378,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
   }
   for (const auto& c : s.checkpoints) std::cout << "checkpoint: " << c << "\n";
   if (!s.pvd.empty()) std::cout << "results: " << s.pvd << "\n";
-  if (s.stop_reason == "interrupted") {
+  if (s.stop_reason == StopReason::interrupted) {
     const int signo = stop_signal;
     std::cerr << "stratum: interrupted by " << (signo == SIGTERM ? "SIGTERM" : "SIGINT") << " in stage "
               << s.stages_done + 1 << " after " << s.steps_done << " steps"
@@ -387,7 +387,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
   }
   // A numerical stop is not a result: its own exit status, so that scripts and studies can tell it
   // from a collapse (0) and from a failed stage (2).
-  if (s.stop_reason == "numerical") return 4;
+  if (s.stop_reason == StopReason::numerical) return 4;
   // The scene's [[checks]]: one line each; a failed check is exit status 5.
   bool checks_pass = true;
   std::string failed;
