@@ -250,25 +250,31 @@ int point(const std::vector<std::string>& args) {
   return 0;
 }
 
-int run(const std::vector<std::string>& args, bool check_only) {
+/// The options of `stratum run` and `stratum check` as given.
+struct RunArgs {
   std::string scene, out, restart;
   bool verbose = false, quiet = false;
   double progress_every = 5.0;
+};
+
+/// Reads the arguments of `stratum run` (or of `stratum check`: only --quiet).
+RunArgs parse_run_args(const std::vector<std::string>& args, bool check_only) {
+  RunArgs a;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--out" && !check_only) {
       if (i + 1 >= args.size()) throw Error("--out needs a directory");
-      out = args[++i];
+      a.out = args[++i];
     } else if (args[i] == "--restart-from" && !check_only) {
       if (i + 1 >= args.size()) throw Error("--restart-from needs a checkpoint file");
-      restart = args[++i];
+      a.restart = args[++i];
     } else if (args[i] == "--verbose" && !check_only) {
-      verbose = true;
+      a.verbose = true;
     } else if (args[i] == "--quiet") {
-      quiet = true;
+      a.quiet = true;
     } else if (args[i] == "--progress-every" && !check_only) {
       char* end = nullptr;
-      if (i + 1 >= args.size() || (progress_every = std::strtod(args[++i].c_str(), &end), *end) ||
-          !(progress_every >= 0.0))
+      if (i + 1 >= args.size() || (a.progress_every = std::strtod(args[++i].c_str(), &end), *end) ||
+          !(a.progress_every >= 0.0))
         throw Error("--progress-every needs a number of seconds >= 0");
     } else if (!args[i].empty() && args[i][0] == '-') {
       const std::vector<std::string_view> allowed =
@@ -281,20 +287,24 @@ int run(const std::vector<std::string>& args, bool check_only) {
                                 "SECONDS") +
                   did_you_mean(args[i], allowed) + " (see stratum " + (check_only ? "check" : "run") +
                   " --help)");
-    } else if (scene.empty()) {
-      scene = args[i];
+    } else if (a.scene.empty()) {
+      a.scene = args[i];
     } else {
-      throw Error("more than one scene file given ('" + scene + "', '" + args[i] + "')");
+      throw Error("more than one scene file given ('" + a.scene + "', '" + args[i] + "')");
     }
   }
-  if (scene.empty()) throw Error("no scene file given (see stratum --help)");
-  if (verbose && quiet) throw Error("--verbose and --quiet exclude each other");
-  const MuteStdout mute(quiet);
+  if (a.scene.empty()) throw Error("no scene file given (see stratum --help)");
+  if (a.verbose && a.quiet) throw Error("--verbose and --quiet exclude each other");
+  return a;
+}
+
+/// The run's options: output folder, restart, and the callbacks that print progress (to
+/// `progress`) or every step's diagnostics (--verbose), and poll the stop signals.
+RunOptions run_options(const RunArgs& a, Progress& progress) {
   RunOptions opts;
-  opts.out_dir = out;
-  opts.restart_from = restart;
-  const bool tty = isatty(STDERR_FILENO) != 0;
-  opts.on_record = [&](const StepRecord& r) {
+  opts.out_dir = a.out;
+  opts.restart_from = a.restart;
+  opts.on_record = [verbose = a.verbose](const StepRecord& r) {
     if (!verbose) return;
     std::cerr << "step " << r.step << " lambda " << r.lambda << " iterations " << r.iterations
               << " cut-backs " << r.cutbacks << " rate " << r.contraction << " order " << r.order << " time "
@@ -303,54 +313,60 @@ int run(const std::vector<std::string>& args, bool check_only) {
     std::cerr << "\n";
   };
   opts.interrupted = [] { return stop_signal != 0; };
-  Progress progress(tty, progress_every);
-  opts.on_stage = [&](const std::string& name, int number, int count) {
+  opts.on_stage = [&progress](const std::string& name, int number, int count) {
     progress.stage(name, number, count);
   };
-  opts.on_step = [&](int step, int steps, double lambda, const StepReport& rep) {
+  opts.on_step = [&progress, verbose = a.verbose, quiet = a.quiet](int step, int steps, double lambda,
+                                                                   const StepReport& rep) {
     if (!verbose && !quiet) progress.step(step, steps, lambda, rep.iterations); // --verbose: on_record
   };
-  auto analysis = Analysis::from_file(scene, opts);
-  if (check_only) {
-    if (!quiet) // --quiet: errors only
-      for (const auto& w : analysis->warnings()) std::cerr << "stratum: warning: " << w << "\n";
-    const auto& m = analysis->model();
-    std::cout << scene << ": ok (" << m.mesh.nodes.size() << " nodes, " << m.mesh.cells.size() << " cells, "
-              << m.dofs.free_count << " unknowns of fields " << m.dofs.field_list() << ", "
-              << analysis->opened_libraries().size() << " plugin libraries"
-              << (analysis->units().is_default() ? "" : ", units " + analysis->units().describe()) << ")\n";
-    return 0;
-  }
-  catch_stop_signals();
-  const RunSummary s = analysis->run();
-  progress.end();
-  if (!s.outcome.ok()) {
-    std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message;
-    // A singular stiffness before any step has converged is a model that can move without
-    // resistance; later it is the structure's own loss of stiffness (see until_failure).
-    if (s.outcome.status == Status::singular && s.steps_done == 0)
-      std::cerr << " (before any step converged: a part of the model may be free to move as a rigid body; "
-                   "check the constraints)";
-    std::cerr << "\n";
-    return 2;
-  }
+  return opts;
+}
+
+/// `stratum check`: the warnings and the one line that says the scene is fine.
+int report_check(const Analysis& analysis, const std::string& scene, bool quiet) {
+  if (!quiet) // --quiet: errors only
+    for (const auto& w : analysis.warnings()) std::cerr << "stratum: warning: " << w << "\n";
+  const auto& m = analysis.model();
+  std::cout << scene << ": ok (" << m.mesh.nodes.size() << " nodes, " << m.mesh.cells.size() << " cells, "
+            << m.dofs.free_count << " unknowns of fields " << m.dofs.field_list() << ", "
+            << analysis.opened_libraries().size() << " plugin libraries"
+            << (analysis.units().is_default() ? "" : ", units " + analysis.units().describe()) << ")\n";
+  return 0;
+}
+
+/// A failed run: its status and message on stderr; exit status 2.
+int report_failure(const RunSummary& s, const std::string& scene) {
+  std::cerr << "stratum: " << scene << ": " << to_string(s.outcome.status) << ": " << s.outcome.message;
+  // A singular stiffness before any step has converged is a model that can move without
+  // resistance; later it is the structure's own loss of stiffness (see until_failure).
+  if (s.outcome.status == Status::singular && s.steps_done == 0)
+    std::cerr << " (before any step converged: a part of the model may be free to move as a rigid body; "
+                 "check the constraints)";
+  std::cerr << "\n";
+  return 2;
+}
+
+/// The `done:` line and where the time went.
+void print_done(const RunSummary& s) {
   std::cout << "done: " << s.steps_done << " steps";
   if (s.cutbacks) std::cout << " (" << s.cutbacks << " cut-backs)";
   std::cout << "\n";
-  {
-    const RunTimes& t = s.times;
-    std::cout << std::fixed << std::setprecision(3) << "time: " << t.total
-              << " s: assembly and stress update " << t.assembly << " s (" << t.assemblies
-              << "), linear solver " << t.analyze + t.factorize + t.solve << " s (analyze " << t.analyze
-              << " x" << t.analyses << ", factorize " << t.factorize << " x" << t.factorizations << ", solve "
-              << t.solve << " x" << t.solves << "), output " << t.output << " s, checkpoints " << t.checkpoint
-              << " s\n"
-              << std::defaultfloat;
-  }
-  if (s.stop_reason == "collapse" || s.stop_reason == "numerical") {
+  const RunTimes& t = s.times;
+  std::cout << std::fixed << std::setprecision(3) << "time: " << t.total << " s: assembly and stress update "
+            << t.assembly << " s (" << t.assemblies << "), linear solver "
+            << t.analyze + t.factorize + t.solve << " s (analyze " << t.analyze << " x" << t.analyses
+            << ", factorize " << t.factorize << " x" << t.factorizations << ", solve " << t.solve << " x"
+            << t.solves << "), output " << t.output << " s, checkpoints " << t.checkpoint << " s\n"
+            << std::defaultfloat;
+}
+
+/// Why a stage ended the run early (collapse, numerical failure, settlement limit).
+void print_stop(const RunSummary& s) {
+  if (s.stop_reason == StopReason::collapse || s.stop_reason == StopReason::numerical) {
     std::ostringstream ratio;
     ratio << std::setprecision(3) << s.stiffness_ratio;
-    if (s.stop_reason == "collapse")
+    if (s.stop_reason == StopReason::collapse)
       std::cout << "stopped: collapse: a load step found no equilibrium after its cut-backs, and the "
                    "structure had lost its stiffness (over the last tenth of the load, down to "
                 << ratio.str()
@@ -363,37 +379,29 @@ int run(const std::vector<std::string>& args, bool check_only) {
                    "the last converged level (see diagnostics.csv)\n";
     // The failed step's message (its residual may be NaN) is a diagnostic, not a result: stderr.
     std::cerr << "stratum: the step that stopped the run"
-              << (s.stop_reason == "collapse" ? " at the collapse: " : ": ") << s.stop_message << "\n";
-  } else if (s.stop_reason == "settlement")
+              << (s.stop_reason == StopReason::collapse ? " at the collapse: " : ": ") << s.stop_message
+              << "\n";
+  } else if (s.stop_reason == StopReason::settlement)
     std::cout << "stopped: the settlement limit of the stage is exceeded\n";
+}
 
-  if (!s.load_settlement.empty()) {
-    const Units& u = analysis->units();
-    std::cout << "\n  load (" << u.force() << ")   settlement (" << u.small_length() << ")\n";
-    for (const auto& r : s.load_settlement)
-      std::cout << "  " << std::setw(9) << std::fixed << std::setprecision(1) << r[0] << "   "
-                << std::setw(15) << std::setprecision(3) << r[1] << "\n";
-    std::cout << std::defaultfloat << "\n";
-  }
-  for (const auto& c : s.checkpoints) std::cout << "checkpoint: " << c << "\n";
-  if (!s.pvd.empty()) std::cout << "results: " << s.pvd << "\n";
-  if (s.stop_reason == "interrupted") {
-    const int signo = stop_signal;
-    std::cerr << "stratum: interrupted by " << (signo == SIGTERM ? "SIGTERM" : "SIGINT") << " in stage "
-              << s.stages_done + 1 << " after " << s.steps_done << " steps"
-              << "; the results computed so far are written to " << s.out_dir << "\n";
-    return 128 + signo;
-  }
-  // A numerical stop is not a result: its own exit status, so that scripts and studies can tell it
-  // from a collapse (0) and from a failed stage (2).
-  if (s.stop_reason == "numerical") return 4;
-  // The scene's [[checks]]: one line each; a failed check is exit status 5.
+/// The pile head's load-settlement table, when the run recorded one.
+void print_load_settlement(const RunSummary& s, const Units& u) {
+  if (s.load_settlement.empty()) return;
+  std::cout << "\n  load (" << u.force() << ")   settlement (" << u.small_length() << ")\n";
+  for (const auto& r : s.load_settlement)
+    std::cout << "  " << std::setw(9) << std::fixed << std::setprecision(1) << r[0] << "   " << std::setw(15)
+              << std::setprecision(3) << r[1] << "\n";
+  std::cout << std::defaultfloat << "\n";
+}
+
+/// The scene's [[checks]]: one line each; a failed check is exit status 5.
+int report_checks(const RunSummary& s, const Units& u, const std::string& scene) {
   bool checks_pass = true;
   std::string failed;
   for (const auto& c : s.checks) {
     if (!c.pass) failed += (failed.empty() ? "" : ", ") + c.label;
     // In other units than kN, m the line names the quantity's unit (stratum/units.hpp).
-    const Units& u = analysis->units();
     const std::string unit = u.is_default() ? "" : " [" + u.label(c.unit) + "]";
     std::cout << "check " << c.label << unit << " = " << std::setprecision(10) << c.value << ", expected "
               << c.expected << " +- " << std::setprecision(3) << c.tolerance << ": "
@@ -404,6 +412,35 @@ int run(const std::vector<std::string>& args, bool check_only) {
   if (!checks_pass)
     std::cerr << "stratum: " << scene << ": a check failed: " << failed << " (the check lines on stdout)\n";
   return checks_pass ? 0 : 5;
+}
+
+int run(const std::vector<std::string>& args, bool check_only) {
+  const RunArgs a = parse_run_args(args, check_only);
+  const MuteStdout mute(a.quiet);
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  Progress progress(tty, a.progress_every);
+  auto analysis = Analysis::from_file(a.scene, run_options(a, progress));
+  if (check_only) return report_check(*analysis, a.scene, a.quiet);
+  catch_stop_signals();
+  const RunSummary s = analysis->run();
+  progress.end();
+  if (!s.outcome.ok()) return report_failure(s, a.scene);
+  print_done(s);
+  print_stop(s);
+  print_load_settlement(s, analysis->units());
+  for (const auto& c : s.checkpoints) std::cout << "checkpoint: " << c << "\n";
+  if (!s.pvd.empty()) std::cout << "results: " << s.pvd << "\n";
+  if (s.stop_reason == StopReason::interrupted) {
+    const int signo = stop_signal;
+    std::cerr << "stratum: interrupted by " << (signo == SIGTERM ? "SIGTERM" : "SIGINT") << " in stage "
+              << s.stages_done + 1 << " after " << s.steps_done << " steps"
+              << "; the results computed so far are written to " << s.out_dir << "\n";
+    return 128 + signo;
+  }
+  // A numerical stop is not a result: its own exit status, so that scripts and studies can tell it
+  // from a collapse (0) and from a failed stage (2).
+  if (s.stop_reason == StopReason::numerical) return 4;
+  return report_checks(s, analysis->units(), a.scene);
 }
 
 } // namespace

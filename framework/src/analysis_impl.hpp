@@ -23,6 +23,8 @@
 
 namespace stratum {
 
+struct PileObservation; // output/pile_monitor.hpp
+
 /// The text of <out>/summary.toml for a run of `scene` with `stages` stages.
 [[nodiscard]] std::string summary_toml(const RunSummary& summary, const std::string& scene,
                                        std::size_t stages);
@@ -91,6 +93,10 @@ struct Analysis::Impl {
   void record_stage_loads(const std::vector<LoadSpec>& before);
   bool run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
                  std::vector<std::array<double, 3>>& axial_rows);
+  /// Adds what a pile monitor observed to the curves, the axial and shaft rows and the VTK field
+  /// data's head load and settlement (nothing when it monitors no head; run_stage).
+  void record_pile(const PileObservation& o, RunSummary& summary,
+                   std::vector<std::array<double, 3>>& axial_rows);
   std::vector<std::array<double, 6>> shaft_rows; ///< load, y, shear, normal, slip (mm), status
   std::vector<Recorder> recorders;               ///< [[output.history]]
   std::vector<Check> checks;                     ///< [[checks]]

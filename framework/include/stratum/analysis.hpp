@@ -33,7 +33,7 @@ struct RunOptions {
   /// Called after every accepted step with its diagnostics record; may be empty.
   std::function<void(const StepRecord&)> on_record;
   /// Polled after every accepted step; true ends the run there like an early stop
-  /// (stop_reason "interrupted"): what was computed is written. The CLI sets it from SIGINT/SIGTERM.
+  /// (StopReason::interrupted): what was computed is written. The CLI sets it from SIGINT/SIGTERM.
   std::function<bool()> interrupted;
 };
 
@@ -57,6 +57,14 @@ struct CheckResult {
   bool pass = false;
 };
 
+/// Why a stage ended the run early: collapse or numerical (a step of an until_failure stage
+/// failed; see RunSummary::stiffness_ratio), the stage's settlement limit, or an interruption.
+enum class StopReason { none, collapse, numerical, settlement, interrupted };
+
+/// The name summary.toml and the CLI give a stop reason: "collapse", "numerical", "settlement",
+/// "interrupted" ("" for none).
+[[nodiscard]] const char* stop_reason_name(StopReason reason);
+
 struct RunSummary {
   Outcome outcome;
   RunTimes times;
@@ -66,9 +74,8 @@ struct RunSummary {
   std::vector<StepRecord> records; ///< diagnostics of every attempt (also in <out_dir>/diagnostics.csv)
   std::string pvd;                 ///< the .pvd collection written ("" when no output)
   std::string out_dir;
-  int stages_done = 0;     ///< stages completed (counting those before a restart)
-  std::string stop_reason; ///< why a stage ended early: "collapse" or "numerical" (a step of an until_failure
-                           ///< stage failed; see stiffness_ratio), "settlement" or "interrupted"
+  int stages_done = 0;                       ///< stages completed (counting those before a restart)
+  StopReason stop_reason = StopReason::none; ///< why a stage ended early (none: it did not)
   std::string stop_message; ///< for "collapse"/"numerical": the failed step's message (stage, load factors,
                             ///< solver, cut-backs)
   /// For "collapse"/"numerical": the current stiffness of the last converged step over that of the

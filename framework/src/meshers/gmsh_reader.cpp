@@ -98,17 +98,14 @@ const std::vector<int>& groups_of(const GmshFile& f, int dim, int entity) {
   return it == f.physical.end() ? none : it->second;
 }
 
-Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
-  if (f.quads.empty())
-    lx.fail(end, "no quadrangles (4-, 8- or 9-node) or triangles (3- or 6-node) in the mesh");
-  for (QuadElement& q : f.quads) orient(lx, q, f.nodes);
-
+/// The cells' nodes (in file order) and the cells into the mesh; returns each file node's
+/// number in the mesh (-1: not a node of a cell).
+std::vector<int> nodes_and_cells(const GmshFile& f, Mesh& mesh) {
   // Keep the nodes of the cells, in file order.
   std::vector<int> index(f.nodes.size(), -1);
   for (const QuadElement& q : f.quads)
     for (int v : q.cell.nodes)
       if (v >= 0) index[v] = 0;
-  Mesh mesh;
   for (std::size_t i = 0; i < f.nodes.size(); ++i)
     if (index[i] == 0) {
       index[i] = static_cast<int>(mesh.nodes.size());
@@ -122,6 +119,12 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
     mesh.cells.push_back(c);
   }
 
+  return index;
+}
+
+/// Checks the physical names (the reserved one, point and curve groups of one name) and makes
+/// the (possibly empty) cell and node sets of the named groups.
+void check_names(const Lexer& lx, const GmshFile& f, Mesh& mesh) {
   // The reserved name and clashes between node sets of curve and point groups.
   for (const auto& [key, pn] : f.names) {
     if (key.first == 2 && pn.name == "all")
@@ -135,7 +138,10 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
     if (key.first == 2) mesh.cell_sets[pn.name];
     if (key.first == 0) mesh.node_sets[pn.name];
   }
+}
 
+/// The cell sets of the surface groups and "all", and the split of the mixed ones.
+void make_cell_sets(const Lexer& lx, const GmshFile& f, Mesh& mesh, const Token& end) {
   // Cell sets.
   for (std::size_t c = 0; c < f.quads.size(); ++c)
     for (int tag : groups_of(f, 2, f.quads[c].entity)) {
@@ -165,7 +171,10 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
                       "' made for a mixed physical group is also a physical group's name");
     mesh.cell_sets[name] = std::move(cells);
   }
+}
 
+/// The edge sets of the curve groups.
+void make_edge_sets(const Lexer& lx, const GmshFile& f, Mesh& mesh, const std::vector<int>& index) {
   // Edge sets: orient every grouped line along the boundary of a quadrangle that has it.
   std::unordered_map<std::uint64_t, std::size_t> wanted;
   for (std::size_t l = 0; l < f.lines.size(); ++l)
@@ -204,7 +213,10 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
     for (int tag : groups) edge_sets[group_name(f, 1, tag)].push_back(e);
   }
   for (auto& [name, edges] : edge_sets) mesh.add_edge_set(name, std::move(edges));
+}
 
+/// The node sets of the point groups.
+void make_point_sets(const Lexer& lx, const GmshFile& f, Mesh& mesh, const std::vector<int>& index) {
   // Node sets of point groups.
   for (const PointElement& p : f.points)
     for (int tag : groups_of(f, 0, p.entity)) {
@@ -221,6 +233,18 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   }
+}
+
+Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
+  if (f.quads.empty())
+    lx.fail(end, "no quadrangles (4-, 8- or 9-node) or triangles (3- or 6-node) in the mesh");
+  for (QuadElement& q : f.quads) orient(lx, q, f.nodes);
+  Mesh mesh;
+  const std::vector<int> index = nodes_and_cells(f, mesh);
+  check_names(lx, f, mesh);
+  make_cell_sets(lx, f, mesh, end);
+  make_edge_sets(lx, f, mesh, index);
+  make_point_sets(lx, f, mesh, index);
   return mesh;
 }
 

@@ -140,12 +140,13 @@ struct SideEdge {
   Side side;
 };
 
-} // namespace
+// The blocks' bounding box and the tolerance for telling coordinates apart.
+struct Bounds {
+  double xmin, xmax, ymin, ymax, tol;
+};
 
-Mesh generate_blocks(const std::vector<Block>& blocks, int nodes_per_cell) {
-  validate(blocks, nodes_per_cell);
-  const int s = nodes_per_cell == 8 ? 2 : 1;
-
+/// The bounding box of the blocks; throws where two blocks overlap.
+Bounds bounds_of(const std::vector<Block>& blocks) {
   double xmin = blocks[0].x0, xmax = blocks[0].x1, ymin = blocks[0].y0, ymax = blocks[0].y1;
   for (const Block& b : blocks) {
     xmin = std::min(xmin, b.x0);
@@ -163,8 +164,11 @@ Mesh generate_blocks(const std::vector<Block>& blocks, int nodes_per_cell) {
       const double h = std::min(p.y1, q.y1) - std::max(p.y0, q.y0);
       if (w > tol && h > tol) throw Error(block_label(p) + " and " + block_label(q) + " overlap");
     }
+  return {xmin, xmax, ymin, ymax, tol};
+}
 
-  Mesh mesh;
+/// Reserves the mesh's nodes and cells; throws when the node count does not fit an int.
+void reserve(Mesh& mesh, const std::vector<Block>& blocks, int s) {
   std::size_t total_nodes = 0, total_cells = 0;
   for (const Block& b : blocks) {
     total_nodes += static_cast<std::size_t>(s * b.nx + 1) * static_cast<std::size_t>(s * b.ny + 1);
@@ -174,85 +178,104 @@ Mesh generate_blocks(const std::vector<Block>& blocks, int nodes_per_cell) {
     throw Error("mesh generator: too many nodes (" + std::to_string(total_nodes) + ")");
   mesh.nodes.reserve(total_nodes);
   mesh.cells.reserve(total_cells);
+}
 
-  NodeIndex boundary_nodes(xmin, ymin, tol);
-  std::vector<SideEdge> side_edges;
-  std::vector<int> id;
-
-  for (std::size_t k = 0; k < blocks.size(); ++k) {
-    const Block& b = blocks[k];
-    const std::vector<double> xc = graded(b.x0, b.x1, b.nx, b.grade_x);
-    const std::vector<double> yc = graded(b.y0, b.y1, b.ny, b.grade_y);
-    for (const std::vector<double>* c : {&xc, &yc})
-      for (std::size_t i = 0; i + 1 < c->size(); ++i)
-        if (!((*c)[i + 1] - (*c)[i] > 2 * tol * s))
-          throw Error(block_label(b) + ": the grading makes a cell of size " + num((*c)[i + 1] - (*c)[i]) +
-                      ", too small to tell its nodes apart");
-    const std::vector<double> xf = fine_grid(xc, s);
-    const std::vector<double> yf = fine_grid(yc, s);
-    const int nxf = s * b.nx, nyf = s * b.ny;
-    const auto at = [nxf](int i, int j) { return static_cast<std::size_t>(j) * (nxf + 1) + i; };
-
-    // Nodes: row by row along the shorter side, so that the bandwidth stays small.
-    id.assign(static_cast<std::size_t>(nxf + 1) * (nyf + 1), -1);
-    std::vector<std::pair<Eigen::Vector2d, int>> new_boundary;
-    const bool rows_along_x = nxf <= nyf;
-    const int outer_n = rows_along_x ? nyf : nxf, inner_n = rows_along_x ? nxf : nyf;
-    for (int o = 0; o <= outer_n; ++o)
-      for (int in = 0; in <= inner_n; ++in) {
-        const int i = rows_along_x ? in : o, j = rows_along_x ? o : in;
-        if (s == 2 && i % 2 == 1 && j % 2 == 1) continue; // no centre node
-        const Eigen::Vector2d p(xf[i], yf[j]);
-        const bool on_boundary = i == 0 || j == 0 || i == nxf || j == nyf;
-        int n = on_boundary ? boundary_nodes.find(mesh.nodes, p) : -1;
-        if (n < 0) {
-          n = static_cast<int>(mesh.nodes.size());
-          mesh.nodes.push_back(p);
-          if (on_boundary) new_boundary.emplace_back(p, n);
-        }
-        id[at(i, j)] = n;
-      }
-    for (const auto& [p, n] : new_boundary) boundary_nodes.insert(p, n);
-
-    // Cells, row by row.
-    std::vector<int>& set = mesh.cell_sets[b.name];
-    set.reserve(static_cast<std::size_t>(b.nx) * b.ny);
-    for (int j = 0; j < b.ny; ++j)
-      for (int i = 0; i < b.nx; ++i) {
-        const int i0 = s * i, j0 = s * j, i1 = i0 + s, j1 = j0 + s;
-        Cell c;
-        c.nodes[0] = id[at(i0, j0)];
-        c.nodes[1] = id[at(i1, j0)];
-        c.nodes[2] = id[at(i1, j1)];
-        c.nodes[3] = id[at(i0, j1)];
-        if (s == 2) {
-          c.nodes[4] = id[at(i0 + 1, j0)];
-          c.nodes[5] = id[at(i1, j0 + 1)];
-          c.nodes[6] = id[at(i0 + 1, j1)];
-          c.nodes[7] = id[at(i0, j0 + 1)];
-        }
-        set.push_back(static_cast<int>(mesh.cells.size()));
-        mesh.cells.push_back(c);
-      }
-
-    // Block sides, each following the counter-clockwise boundary of the block.
-    const auto edge = [&](int ia, int ja, int ib, int jb) {
-      Edge e{id[at(ia, ja)], id[at(ib, jb)], -1};
-      if (s == 2) e.mid = id[at((ia + ib) / 2, (ja + jb) / 2)];
-      return e;
-    };
-    std::vector<Edge> sides[4];
-    for (int i = 0; i < b.nx; ++i) sides[bottom].push_back(edge(s * i, 0, s * (i + 1), 0));
-    for (int j = 0; j < b.ny; ++j) sides[right].push_back(edge(nxf, s * j, nxf, s * (j + 1)));
-    for (int i = b.nx - 1; i >= 0; --i) sides[top].push_back(edge(s * (i + 1), nyf, s * i, nyf));
-    for (int j = b.ny - 1; j >= 0; --j) sides[left].push_back(edge(0, s * (j + 1), 0, s * j));
-    for (int sd = 0; sd < 4; ++sd) {
-      for (const Edge& e : sides[sd]) side_edges.push_back({e, k, static_cast<Side>(sd)});
-      mesh.add_edge_set(b.name + "." + side_names[sd], std::move(sides[sd]));
-    }
+/// One block's node grid (s = 2: with midside points) as global node numbers.
+class BlockGrid {
+public:
+  BlockGrid(int nx, int ny, int s) : s(s), nxf(s * nx), nyf(s * ny) {}
+  [[nodiscard]] std::size_t at(int i, int j) const { return static_cast<std::size_t>(j) * (nxf + 1) + i; }
+  /// The edge from grid point (ia, ja) to (ib, jb) (with its midside node for s = 2).
+  [[nodiscard]] Edge edge(const std::vector<int>& id, int ia, int ja, int ib, int jb) const {
+    Edge e{id[at(ia, ja)], id[at(ib, jb)], -1};
+    if (s == 2) e.mid = id[at((ia + ib) / 2, (ja + jb) / 2)];
+    return e;
   }
-  mesh.add_all_set();
+  const int s, nxf, nyf;
+};
 
+/// The block's nodes into the mesh, id[] their numbers on its grid; a boundary node that another
+/// block already made is shared.
+void block_nodes(Mesh& mesh, const Block& b, const BlockGrid& g, double tol, NodeIndex& boundary_nodes,
+                 std::vector<int>& id) {
+  const int s = g.s, nxf = g.nxf, nyf = g.nyf;
+  const std::vector<double> xc = graded(b.x0, b.x1, b.nx, b.grade_x);
+  const std::vector<double> yc = graded(b.y0, b.y1, b.ny, b.grade_y);
+  for (const std::vector<double>* c : {&xc, &yc})
+    for (std::size_t i = 0; i + 1 < c->size(); ++i)
+      if (!((*c)[i + 1] - (*c)[i] > 2 * tol * s))
+        throw Error(block_label(b) + ": the grading makes a cell of size " + num((*c)[i + 1] - (*c)[i]) +
+                    ", too small to tell its nodes apart");
+  const std::vector<double> xf = fine_grid(xc, s);
+  const std::vector<double> yf = fine_grid(yc, s);
+
+  // Nodes: row by row along the shorter side, so that the bandwidth stays small.
+  id.assign(static_cast<std::size_t>(nxf + 1) * (nyf + 1), -1);
+  std::vector<std::pair<Eigen::Vector2d, int>> new_boundary;
+  const bool rows_along_x = nxf <= nyf;
+  const int outer_n = rows_along_x ? nyf : nxf, inner_n = rows_along_x ? nxf : nyf;
+  for (int o = 0; o <= outer_n; ++o)
+    for (int in = 0; in <= inner_n; ++in) {
+      const int i = rows_along_x ? in : o, j = rows_along_x ? o : in;
+      if (s == 2 && i % 2 == 1 && j % 2 == 1) continue; // no centre node
+      const Eigen::Vector2d p(xf[i], yf[j]);
+      const bool on_boundary = i == 0 || j == 0 || i == nxf || j == nyf;
+      int n = on_boundary ? boundary_nodes.find(mesh.nodes, p) : -1;
+      if (n < 0) {
+        n = static_cast<int>(mesh.nodes.size());
+        mesh.nodes.push_back(p);
+        if (on_boundary) new_boundary.emplace_back(p, n);
+      }
+      id[g.at(i, j)] = n;
+    }
+  for (const auto& [p, n] : new_boundary) boundary_nodes.insert(p, n);
+}
+
+/// The block's cells, row by row, into the mesh and its cell set.
+void block_cells(Mesh& mesh, const Block& b, const BlockGrid& g, const std::vector<int>& id) {
+  const int s = g.s;
+  std::vector<int>& set = mesh.cell_sets[b.name];
+  set.reserve(static_cast<std::size_t>(b.nx) * b.ny);
+  for (int j = 0; j < b.ny; ++j)
+    for (int i = 0; i < b.nx; ++i) {
+      const int i0 = s * i, j0 = s * j, i1 = i0 + s, j1 = j0 + s;
+      Cell c;
+      c.nodes[0] = id[g.at(i0, j0)];
+      c.nodes[1] = id[g.at(i1, j0)];
+      c.nodes[2] = id[g.at(i1, j1)];
+      c.nodes[3] = id[g.at(i0, j1)];
+      if (s == 2) {
+        c.nodes[4] = id[g.at(i0 + 1, j0)];
+        c.nodes[5] = id[g.at(i1, j0 + 1)];
+        c.nodes[6] = id[g.at(i0 + 1, j1)];
+        c.nodes[7] = id[g.at(i0, j0 + 1)];
+      }
+      set.push_back(static_cast<int>(mesh.cells.size()));
+      mesh.cells.push_back(c);
+    }
+}
+
+/// Block k's sides as edge sets <name>.bottom, ... (each following the counter-clockwise boundary
+/// of the block), their edges also into side_edges.
+void block_sides(Mesh& mesh, const Block& b, std::size_t k, const BlockGrid& g, const std::vector<int>& id,
+                 std::vector<SideEdge>& side_edges) {
+  const int s = g.s, nxf = g.nxf, nyf = g.nyf;
+  std::vector<Edge> sides[4];
+  for (int i = 0; i < b.nx; ++i) sides[bottom].push_back(g.edge(id, s * i, 0, s * (i + 1), 0));
+  for (int j = 0; j < b.ny; ++j) sides[right].push_back(g.edge(id, nxf, s * j, nxf, s * (j + 1)));
+  for (int i = b.nx - 1; i >= 0; --i) sides[top].push_back(g.edge(id, s * (i + 1), nyf, s * i, nyf));
+  for (int j = b.ny - 1; j >= 0; --j) sides[left].push_back(g.edge(id, 0, s * (j + 1), 0, s * j));
+  for (int sd = 0; sd < 4; ++sd) {
+    for (const Edge& e : sides[sd]) side_edges.push_back({e, k, static_cast<Side>(sd)});
+    mesh.add_edge_set(b.name + "." + side_names[sd], std::move(sides[sd]));
+  }
+}
+
+/// The edge sets bottom, right, top, left of the union's bounding box, each ordered along the
+/// counter-clockwise boundary; throws where blocks touch without sharing nodes.
+void outer_sides(Mesh& mesh, const std::vector<Block>& blocks, const std::vector<SideEdge>& side_edges,
+                 const Bounds& box) {
+  const double tol = box.tol;
   // An edge on a block side is on the boundary of the union unless another block has it too.
   std::unordered_map<std::uint64_t, int> uses;
   uses.reserve(side_edges.size());
@@ -273,10 +296,10 @@ Mesh generate_blocks(const std::vector<Block>& blocks, int nodes_per_cell) {
                     num(m.y()) +
                     ") but their nodes do not match there; give the shared sides the same cells and grading");
     }
-    const bool on_bbox = (se.side == bottom && std::abs(b.y0 - ymin) <= tol) ||
-                         (se.side == right && std::abs(b.x1 - xmax) <= tol) ||
-                         (se.side == top && std::abs(b.y1 - ymax) <= tol) ||
-                         (se.side == left && std::abs(b.x0 - xmin) <= tol);
+    const bool on_bbox = (se.side == bottom && std::abs(b.y0 - box.ymin) <= tol) ||
+                         (se.side == right && std::abs(b.x1 - box.xmax) <= tol) ||
+                         (se.side == top && std::abs(b.y1 - box.ymax) <= tol) ||
+                         (se.side == left && std::abs(b.x0 - box.xmin) <= tol);
     if (on_bbox) outer[se.side].push_back(se.edge);
   }
   // Order each global side along the counter-clockwise boundary.
@@ -291,6 +314,29 @@ Mesh generate_blocks(const std::vector<Block>& blocks, int nodes_per_cell) {
   sort_by(outer[top], 0, false);
   sort_by(outer[left], 1, false);
   for (int sd = 0; sd < 4; ++sd) mesh.add_edge_set(side_names[sd], std::move(outer[sd]));
+}
+
+} // namespace
+
+Mesh generate_blocks(const std::vector<Block>& blocks, int nodes_per_cell) {
+  validate(blocks, nodes_per_cell);
+  const int s = nodes_per_cell == 8 ? 2 : 1;
+  const Bounds box = bounds_of(blocks);
+
+  Mesh mesh;
+  reserve(mesh, blocks, s);
+  NodeIndex boundary_nodes(box.xmin, box.ymin, box.tol);
+  std::vector<SideEdge> side_edges;
+  std::vector<int> id;
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    const Block& b = blocks[k];
+    const BlockGrid g(b.nx, b.ny, s);
+    block_nodes(mesh, b, g, box.tol, boundary_nodes, id);
+    block_cells(mesh, b, g, id);
+    block_sides(mesh, b, k, g, id, side_edges);
+  }
+  mesh.add_all_set();
+  outer_sides(mesh, blocks, side_edges, box);
   return mesh;
 }
 

@@ -30,26 +30,10 @@ void Analysis::Impl::record_stage_loads(const std::vector<LoadSpec>& before) {
     if (!named(loads, l.name)) stage_loads.push_back({l.name, -1, resultant(l)});
 }
 
-void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
-  const Model& m = model;
-  OutputStep out;
-  out.time = time;
-  out.mesh = &m.mesh;
-  out.texts = {{"stage", stage_name}};
-  // Other units than kN, m: named in the field data (kN, m writes what it always wrote).
-  if (!units.is_default()) out.texts.push_back({"units", units.describe()});
-  out.values = {{"stage_number", stage_number},
-                {"step", stage_step},
-                {"load_factor", m.lambda},
-                {units.column("head_load", "kN"), last_head_load},
-                {"head_settlement_" + units.small_length(), last_head_settlement}};
-  // Every load of the stage: the fraction of its full value applied now and its vertical
-  // resultant (y up; 0 for a pressure on a vertical wall), named after the load.
-  for (const auto& l : stage_loads) {
-    const double fraction = l.ramp == 0 ? 1.0 : (l.ramp > 0 ? m.lambda : 1.0 - m.lambda);
-    out.values.push_back({"load." + l.name + ".fraction", fraction});
-    out.values.push_back({"load." + l.name + "." + units.column("Fy", "kN"), fraction * l.fy});
-  }
+namespace {
+
+/// The nodal fields: displacement and reaction (3 components), then every other field of the model.
+void add_node_fields(const Model& m, OutputStep& out) {
   OutputArray disp{"displacement", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
   OutputArray reac{"reaction", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
   for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
@@ -71,6 +55,50 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
       if (const int d = m.dofs.dof(static_cast<int>(n), static_cast<int>(f)); d >= 0) a.values[n] = m.u[d];
     out.point_fields.push_back(std::move(a));
   }
+}
+
+/// The arrays of the materials' named history components (empty) and, per domain, the history
+/// slot of each array's name (-1: none).
+void history_fields(const Model& m, std::vector<OutputArray>& ip_history,
+                    std::vector<std::vector<int>>& history_index) {
+  for (std::size_t d = 0; d < m.domains.size(); ++d) {
+    if (!m.domains[d].law.material) continue;
+    const auto names = m.domains[d].law.material->history_names();
+    const auto n =
+        std::min<std::size_t>(names.size(), static_cast<std::size_t>(m.domains[d].states.history_size()));
+    for (std::size_t k = 0; k < n; ++k) {
+      std::size_t f = 0;
+      while (f < ip_history.size() && ip_history[f].name != names[k]) ++f;
+      if (f == ip_history.size()) ip_history.push_back(OutputArray{names[k], 1, {}});
+      for (auto& idx : history_index) idx.resize(ip_history.size(), -1);
+      history_index[d][f] = static_cast<int>(k);
+    }
+  }
+}
+
+} // namespace
+
+void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
+  const Model& m = model;
+  OutputStep out;
+  out.time = time;
+  out.mesh = &m.mesh;
+  out.texts = {{"stage", stage_name}};
+  // Other units than kN, m: named in the field data (kN, m writes what it always wrote).
+  if (!units.is_default()) out.texts.push_back({"units", units.describe()});
+  out.values = {{"stage_number", stage_number},
+                {"step", stage_step},
+                {"load_factor", m.lambda},
+                {units.column("head_load", "kN"), last_head_load},
+                {"head_settlement_" + units.small_length(), last_head_settlement}};
+  // Every load of the stage: the fraction of its full value applied now and its vertical
+  // resultant (y up; 0 for a pressure on a vertical wall), named after the load.
+  for (const auto& l : stage_loads) {
+    const double fraction = l.ramp == 0 ? 1.0 : (l.ramp > 0 ? m.lambda : 1.0 - m.lambda);
+    out.values.push_back({"load." + l.name + ".fraction", fraction});
+    out.values.push_back({"load." + l.name + "." + units.column("Fy", "kN"), fraction * l.fy});
+  }
+  add_node_fields(m, out);
   const std::vector<std::string> voigt{"xx", "yy", "zz", "xy", "yz", "zx"};
   OutputArray stress{"stress", 6, {}, voigt}, set_id{"set_id", 1, {}};
   OutputArray ip_stress{"stress", 6, {}, voigt}, ip_strain{"strain", 6, {}, voigt},
@@ -79,20 +107,7 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   // integration points; NaN where a domain's material has no component of that name.
   std::vector<OutputArray> ip_history;
   std::vector<std::vector<int>> history_index(m.domains.size()); // field -> history slot, per domain
-  if (settings.ip_output)
-    for (std::size_t d = 0; d < m.domains.size(); ++d) {
-      if (!m.domains[d].law.material) continue;
-      const auto names = m.domains[d].law.material->history_names();
-      const auto n =
-          std::min<std::size_t>(names.size(), static_cast<std::size_t>(m.domains[d].states.history_size()));
-      for (std::size_t k = 0; k < n; ++k) {
-        std::size_t f = 0;
-        while (f < ip_history.size() && ip_history[f].name != names[k]) ++f;
-        if (f == ip_history.size()) ip_history.push_back(OutputArray{names[k], 1, {}});
-        for (auto& idx : history_index) idx.resize(ip_history.size(), -1);
-        history_index[d][f] = static_cast<int>(k);
-      }
-    }
+  if (settings.ip_output) history_fields(m, ip_history, history_index);
   std::size_t total_points = 0;
   for (const auto& dm : m.domains)
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)

@@ -31,13 +31,13 @@ std::string summary_toml(const RunSummary& summary, const std::string& scene, st
   // ended: "completed" (every stage ran to its end), "stopped" (a stage ended the run early, as
   // its rules allow: stop_reason says why) or "failed" (a step found no equilibrium after its
   // cut-backs outside an until_failure stage: status and message say where).
-  const char* ended = !summary.outcome.ok()         ? "failed"
-                      : summary.stop_reason.empty() ? "completed"
-                                                    : "stopped";
+  const char* ended = !summary.outcome.ok()                     ? "failed"
+                      : summary.stop_reason == StopReason::none ? "completed"
+                                                                : "stopped";
   line(o, "ended", std::string(ended));
-  line(o, "stop_reason", summary.stop_reason);
+  line(o, "stop_reason", std::string(stop_reason_name(summary.stop_reason)));
   line(o, "stop_message", summary.stop_message);
-  if (summary.stop_reason == "collapse" || summary.stop_reason == "numerical")
+  if (summary.stop_reason == StopReason::collapse || summary.stop_reason == StopReason::numerical)
     line(o, "stiffness_ratio", summary.stiffness_ratio);
   line(o, "status", std::string(to_string(summary.outcome.status)));
   line(o, "message", summary.outcome.message);

@@ -317,6 +317,51 @@ bool admissible_on(const Context& c, const ImplicitSystem<MaxN>& sys, const std:
   return true;
 }
 
+/// Every non-empty set of surfaces, smallest first; the first admissible solution (x, and its
+/// set in `active`). `why`: what made the active-set strategy give up, for the failure message.
+template <int MaxN>
+Outcome exhaustive(const Context& c, const ImplicitSystem<MaxN>& sys, const std::string& why,
+                   std::vector<int>& active, VecN<MaxN>& x) {
+  if (c.m > 12) return fail(c, Status::material_failure, why);
+  std::vector<std::vector<int>> sets;
+  for (unsigned mask = 1; mask < (1u << c.m); ++mask) {
+    std::vector<int> set;
+    for (int k = 0; k < c.m; ++k)
+      if (mask & (1u << k)) set.push_back(k);
+    sets.push_back(std::move(set));
+  }
+  std::stable_sort(sets.begin(), sets.end(),
+                   [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  for (const auto& set : sets)
+    if (admissible_on(c, sys, set, x)) {
+      active = set;
+      return Outcome::success();
+    }
+  return fail(c, Status::material_failure, why + "; no set of surfaces gives an admissible return");
+}
+
+/// The algorithmic tangent d sigma / d de at the converged state x into st.tangent.
+template <int MaxN>
+Outcome consistent_tangent(const Context& c, const ImplicitSystem<MaxN>& sys, const VecN<MaxN>& x,
+                           const std::vector<int>& active, State& st) {
+  using Vec = VecN<MaxN>;
+  using Mat = MatN<MaxN>;
+  // sigma(de) from R(x(de); de) = 0: dx/dde = -J^-1 dR/dde, dR/dde = [-T_e; 0; 0].
+  Vec R;
+  Mat J;
+  Mat6 Te;
+  sys.evaluate(x, active, R, &J, &Te);
+  ScaledLU<MaxN> lu;
+  if (!lu.factor(J))
+    return fail(c, Status::material_failure, "singular local Jacobian for the consistent tangent");
+  Eigen::Matrix<double, Eigen::Dynamic, 6, 0, MaxN, 6> B =
+      Eigen::Matrix<double, Eigen::Dynamic, 6, 0, MaxN, 6>::Zero(J.rows(), 6);
+  B.topRows(6) = Te;
+  st.tangent = lu.solve(B).topRows(6);
+  st.has_tangent = true;
+  return Outcome::success();
+}
+
 /// Implicit integration with the active-set strategy: start with the surfaces violated by the
 /// elastic trial, drop the surface with the most negative multiplier, add the most violated
 /// inactive surface, until neither applies. When that strategy cycles or its Newton iteration
@@ -329,7 +374,6 @@ template <int MaxN>
 Outcome implicit_n(const Context& c, Rule rule, double alpha, const Vec6& sigma0, const VecX& q0,
                    const Vec6& de, bool consistent, State& st) {
   using Vec = VecN<MaxN>;
-  using Mat = MatN<MaxN>;
   const ImplicitSystem<MaxN> sys(c, rule, alpha, sigma0, q0, de);
   const Vec6 trial = c.elastic_update(sigma0, q0, de);
   const double tol_trial = c.tol(trial, q0);
@@ -344,26 +388,6 @@ Outcome implicit_n(const Context& c, Rule rule, double alpha, const Vec6& sigma0
     return Outcome::success();
   }
 
-  // Every non-empty set of surfaces, smallest first; the first admissible solution.
-  auto exhaustive = [&](const std::string& why, Vec& x) -> Outcome {
-    if (c.m > 12) return fail(c, Status::material_failure, why);
-    std::vector<std::vector<int>> sets;
-    for (unsigned mask = 1; mask < (1u << c.m); ++mask) {
-      std::vector<int> set;
-      for (int k = 0; k < c.m; ++k)
-        if (mask & (1u << k)) set.push_back(k);
-      sets.push_back(std::move(set));
-    }
-    std::stable_sort(sets.begin(), sets.end(),
-                     [](const auto& a, const auto& b) { return a.size() < b.size(); });
-    for (const auto& set : sets)
-      if (admissible_on(c, sys, set, x)) {
-        active = set;
-        return Outcome::success();
-      }
-    return fail(c, Status::material_failure, why + "; no set of surfaces gives an admissible return");
-  };
-
   std::set<std::vector<int>> seen;
   const int max_changes = 4 * c.m + 4;
   int total_iterations = 0;
@@ -372,9 +396,10 @@ Outcome implicit_n(const Context& c, Rule rule, double alpha, const Vec6& sigma0
     std::vector<int> key = active;
     std::sort(key.begin(), key.end());
     if (change > max_changes || !seen.insert(key).second) {
-      const Outcome o = exhaustive("the active set of surfaces did not settle (" + std::to_string(change) +
+      const Outcome o = exhaustive(c, sys,
+                                   "the active set of surfaces did not settle (" + std::to_string(change) +
                                        " changes, last " + set_str(active) + ")",
-                                   x);
+                                   active, x);
       if (!o.ok()) return o;
       break;
     }
@@ -403,7 +428,7 @@ Outcome implicit_n(const Context& c, Rule rule, double alpha, const Vec6& sigma0
                               "); furthest from " + "convergence: " + nr.worst_what + " = " + num(nr.worst) +
                               " (tolerance " + num(nr.worst_tol) + "), active surfaces " + set_str(active);
       if (na < 2) return fail(c, Status::material_failure, why);
-      const Outcome o = exhaustive(why, x);
+      const Outcome o = exhaustive(c, sys, why, active, x);
       if (!o.ok()) return o;
       break;
     }
@@ -431,21 +456,7 @@ Outcome implicit_n(const Context& c, Rule rule, double alpha, const Vec6& sigma0
   }
 
   st.sigma = x.template head<6>(), st.q = x.segment(6, c.nq), st.active = active;
-  if (consistent) {
-    // sigma(de) from R(x(de); de) = 0: dx/dde = -J^-1 dR/dde, dR/dde = [-T_e; 0; 0].
-    Vec R;
-    Mat J;
-    Mat6 Te;
-    sys.evaluate(x, active, R, &J, &Te);
-    ScaledLU<MaxN> lu;
-    if (!lu.factor(J))
-      return fail(c, Status::material_failure, "singular local Jacobian for the consistent tangent");
-    Eigen::Matrix<double, Eigen::Dynamic, 6, 0, MaxN, 6> B =
-        Eigen::Matrix<double, Eigen::Dynamic, 6, 0, MaxN, 6>::Zero(J.rows(), 6);
-    B.topRows(6) = Te;
-    st.tangent = lu.solve(B).topRows(6);
-    st.has_tangent = true;
-  }
+  if (consistent) return consistent_tangent(c, sys, x, active, st);
   return Outcome::success();
 }
 

@@ -11,6 +11,22 @@ namespace fs = std::filesystem;
 
 namespace stratum {
 
+const char* stop_reason_name(StopReason reason) {
+  switch (reason) {
+  case StopReason::none:
+    return "";
+  case StopReason::collapse:
+    return "collapse";
+  case StopReason::numerical:
+    return "numerical";
+  case StopReason::settlement:
+    return "settlement";
+  case StopReason::interrupted:
+    return "interrupted";
+  }
+  return "";
+}
+
 RunSummary Analysis::run() {
   const auto t_run = std::chrono::steady_clock::now();
   Impl& s = *impl_;
@@ -101,7 +117,7 @@ RunSummary Analysis::run() {
       summary.times.checkpoint += seconds_since(t_ckpt);
     }
     if (!go_on) {
-      if (!summary.stop_reason.empty()) summary.stages_done = static_cast<int>(k); // ended early
+      if (summary.stop_reason != StopReason::none) summary.stages_done = static_cast<int>(k); // ended early
       break;
     }
   }

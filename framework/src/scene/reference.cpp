@@ -114,12 +114,16 @@ std::vector<std::string> generator_sets(const Registry& reg, const std::string& 
           "other node sets: " + names(mesh.node_sets, &mesh.edge_sets)};
 }
 
-/// All sections; with `reg` null only their names, headers and summaries (no plugins opened).
-std::vector<Section> sections(const Registry* reg) {
-  std::vector<Section> out;
-  const auto add = [&](std::string name, std::string header, std::string summary) -> Section& {
-    out.push_back(Section{{std::move(name), std::move(header), std::move(summary)}, {}, {}});
-    return out.back();
+/// Appends a section (no blocks, no notes yet) and returns it.
+Section& add_section(std::vector<Section>& out, std::string name, std::string header, std::string summary) {
+  out.push_back(Section{{std::move(name), std::move(header), std::move(summary)}, {}, {}});
+  return out.back();
+}
+
+/// The sections of the scene file itself: its top-level keys, include, [units].
+void add_top_sections(std::vector<Section>& out) {
+  const auto add = [&](std::string n, std::string h, std::string sm) -> Section& {
+    return add_section(out, std::move(n), std::move(h), std::move(sm));
   };
   {
     auto& s =
@@ -152,7 +156,13 @@ std::vector<Section> sections(const Registry* reg) {
         "slips are tabulated in mm when length = \"m\" (x 1000), otherwise in the length unit itself."};
     s.blocks.push_back(own(scene::units_schema()));
   }
-  const Schema analysis = scene::analysis_schema();
+}
+
+/// [analysis], [convergence] and [solver] (the solver plugins' variants with `reg`).
+void add_analysis_sections(std::vector<Section>& out, const Registry* reg, const Schema& analysis) {
+  const auto add = [&](std::string n, std::string h, std::string sm) -> Section& {
+    return add_section(out, std::move(n), std::move(h), std::move(sm));
+  };
   add("analysis", "[analysis]", "formulation, solver plugin, linear solver, threads, load stepping")
       .blocks.push_back(own(analysis));
   add("convergence", "[convergence]", "when a load step's iterations count as converged")
@@ -163,6 +173,13 @@ std::vector<Section> sections(const Registry* reg) {
       s.blocks =
           variants(*reg, PluginKind::solver, [](const std::string& n) { return "solver = \"" + n + "\""; });
   }
+}
+
+/// [mesh], [[mesh.blocks]] and the mesh generators' tables (their variants and sets with `reg`).
+void add_mesh_sections(std::vector<Section>& out, const Registry* reg) {
+  const auto add = [&](std::string n, std::string h, std::string sm) -> Section& {
+    return add_section(out, std::move(n), std::move(h), std::move(sm));
+  };
   {
     auto& s = add("mesh", "[mesh]", "where the mesh comes from: blocks, a Gmsh file or a mesh generator");
     s.notes = {"generator = \"gmsh\": the physical groups of the file become sets by name: 2D groups cell "
@@ -189,6 +206,13 @@ std::vector<Section> sections(const Registry* reg) {
       }
     }
   }
+}
+
+/// The model: materials, domains, constraints, loads, contact laws and interfaces.
+void add_model_sections(std::vector<Section>& out) {
+  const auto add = [&](std::string n, std::string h, std::string sm) -> Section& {
+    return add_section(out, std::move(n), std::move(h), std::move(sm));
+  };
   {
     auto& s = add("materials", "[materials.<name>]",
                   "a named material: its model plugin and the model's parameters");
@@ -221,6 +245,13 @@ std::vector<Section> sections(const Registry* reg) {
     s.notes = {"The element's own parameters: `stratum plugins --describe <element>`."};
     s.blocks.push_back(own(scene::interface_schema()));
   }
+}
+
+/// [[stages]] and their actions (the action plugins' variants with `reg`).
+void add_stage_sections(std::vector<Section>& out, const Registry* reg, const Schema& analysis) {
+  const auto add = [&](std::string n, std::string h, std::string sm) -> Section& {
+    return add_section(out, std::move(n), std::move(h), std::move(sm));
+  };
   {
     auto& s =
         add("stages", "[[stages]]", "a stage of a staged run: its stepping and output, then its actions");
@@ -237,6 +268,13 @@ std::vector<Section> sections(const Registry* reg) {
                               [](const std::string& n) { return "type = \"" + n + "\""; }))
         s.blocks.push_back(std::move(b));
   }
+}
+
+/// [output], [[output.history]], [[checks]] and [plugins].
+void add_output_sections(std::vector<Section>& out) {
+  const auto add = [&](std::string n, std::string h, std::string sm) -> Section& {
+    return add_section(out, std::move(n), std::move(h), std::move(sm));
+  };
   add("output", "[output]", "VTK output, the pile's curves and how often tables are written")
       .blocks.push_back(own(scene::output_keys()));
   {
@@ -264,6 +302,18 @@ std::vector<Section> sections(const Registry* reg) {
   }
   add("plugins", "[plugins]", "extra folders searched for plugin libraries")
       .blocks.push_back(own(scene::plugins_keys()));
+}
+
+/// All sections; with `reg` null only their names, headers and summaries (no plugins opened).
+std::vector<Section> sections(const Registry* reg) {
+  std::vector<Section> out;
+  add_top_sections(out);
+  const Schema analysis = scene::analysis_schema();
+  add_analysis_sections(out, reg, analysis);
+  add_mesh_sections(out, reg);
+  add_model_sections(out);
+  add_stage_sections(out, reg, analysis);
+  add_output_sections(out);
   return out;
 }
 

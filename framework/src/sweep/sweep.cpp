@@ -130,9 +130,9 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
       for (const auto& r : s.reports) iterations += r.iterations;
       if (!s.outcome.ok()) {
         reason = std::string(to_string(s.outcome.status)) + ": " + s.outcome.message;
-      } else if (!s.stop_reason.empty()) {
+      } else if (s.stop_reason != StopReason::none) {
         status = "stopped";
-        reason = s.stop_reason + (s.stop_message.empty() ? "" : ": " + s.stop_message);
+        reason = stop_reason_name(s.stop_reason) + (s.stop_message.empty() ? "" : ": " + s.stop_message);
       } else {
         status = "converged";
       }

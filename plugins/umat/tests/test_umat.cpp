@@ -641,7 +641,7 @@ TEST_CASE("umat: the loess pile runs through all its stages with the soil as a U
   CHECK(s.records.back().accepted);
   REQUIRE(!s.load_settlement.empty());
   const auto last = s.load_settlement.back();
-  if (s.stop_reason == "settlement") {
+  if (s.stop_reason == StopReason::settlement) {
     CHECK(s.stages_done == 3);
     CHECK(last[1] >= 27.0);
   } else {
