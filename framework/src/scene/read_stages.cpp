@@ -116,8 +116,10 @@ void scene::read_stages(const toml::table& root, PluginCatalog& catalog, Registr
   }
   // A scene without stages whose [[loads]] are absent and whose constraints prescribe nothing.
   bool moves = false;
-  for (const auto& c : sc.constraints)
+  for (const auto& c : sc.constraints) {
     for (const auto& v : c.value) moves = moves || (v && *v != 0.0);
+    moves = moves || (!c.field.empty() && c.field_value != 0.0); // e.g. a head held at a value
+  }
   if (stage_list.empty() && legacy_loads.empty() && !moves)
     throw Error(location(root), "the scene applies nothing: no [[loads]], no [[stages]] and no non-zero "
                                 "[[constraints]] value; a run would solve a zero load");
