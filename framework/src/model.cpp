@@ -3,6 +3,7 @@
 #include "worker_pool.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -93,13 +94,16 @@ void Model::layout_dofs() {
 void Model::cell_dofs(const Domain& dm, int cell, std::vector<int>& out) const {
   const Cell& c = mesh.cells[static_cast<std::size_t>(cell)];
   const NodeFields nf = dm.element->node_fields(c.type, c.shape());
+  // The model's id of each of the element's fields, looked up once (layout_dofs added them all).
+  std::array<int, 32> id{};
+  for (std::size_t k = 0; k < nf.fields.size() && k < id.size(); ++k) id[k] = dofs.field(nf.fields[k].name);
   out.clear();
   std::size_t i = 0;
   for (int n : c.nodes) {
     if (n < 0) continue;
     const std::uint32_t carried = nf.at(i++);
-    for (std::size_t k = 0; k < nf.fields.size(); ++k)
-      if ((carried >> k) & 1u) out.push_back(dofs.dof(n, dofs.field(nf.fields[k].name)));
+    for (std::size_t k = 0; k < nf.fields.size() && k < id.size(); ++k)
+      if ((carried >> k) & 1u) out.push_back(dofs.dof(n, id[k]));
   }
 }
 
@@ -336,7 +340,6 @@ void add_edge_pressure(const Model& model, const std::vector<Edge>& edges,
   constexpr double g[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
   constexpr double w[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
   const Mesh& mesh = model.mesh;
-  const int ux = model.dofs.field("ux"), uy = model.dofs.field("uy");
   for (const Edge& e : edges) {
     const int ids[3] = {e.a, e.b, e.mid};
     const int n = e.mid >= 0 ? 3 : 2;
@@ -361,7 +364,7 @@ void add_edge_pressure(const Model& model, const std::vector<Edge>& edges,
           w[q] * (model.formulation == Formulation::axisymmetric ? 2 * std::numbers::pi * xq.x() : 1.0);
       const double pq = p(xq);
       for (int a = 0; a < n; ++a) {
-        const int dx = model.dofs.dof(ids[a], ux), dy = model.dofs.dof(ids[a], uy);
+        const int dx = model.dofs.dof(ids[a], field_ux), dy = model.dofs.dof(ids[a], field_uy);
         if (dx >= 0) out[dx] += -pq * N[a] * nds.x() * weight;
         if (dy >= 0) out[dy] += -pq * N[a] * nds.y() * weight;
       }
