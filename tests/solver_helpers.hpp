@@ -2,12 +2,12 @@
 // bar of catalogue case S1 as a NonlinearProblem written here.
 #pragma once
 
+#include "scene/toml_check.hpp"
 #include "stratum/linear_solver.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/registry.hpp"
 #include "stratum/solver.hpp"
 #include "stratum/state_store.hpp"
-#include "toml_check.hpp"
 
 #include <memory>
 #include <string>

@@ -2,7 +2,7 @@
 // tests/fuzz/fuzz_checkpoint, docs/testing.md): a payload whose CRC-32 matches but whose content
 // is not what write_checkpoint writes must end in a located Error, never in a huge allocation,
 // undefined behaviour or a silently accepted value.
-#include "checkpoint.hpp"
+#include "run/checkpoint.hpp"
 
 #include <boost/crc.hpp>
 #include <unistd.h>

@@ -3,7 +3,7 @@
 #include "contact_scenes.hpp"
 #include "scene_helpers.hpp"
 
-#include "stratum/body_interfaces.hpp"
+#include "model/body_interfaces.hpp"
 #include "stratum/mesh_io.hpp"
 
 #include <catch2/catch.hpp>

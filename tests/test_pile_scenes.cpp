@@ -5,7 +5,8 @@
 //   slips everywhere at tau_max and carries 2 pi r0 L tau_max.
 #include "scene_helpers.hpp"
 
-#include "stratum/body_interfaces.hpp"
+#include "model/body_interfaces.hpp"
+#include "output/interface_output.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-// Tests of the shared stress integrators (framework/src/plasticity_integrate.cpp):
+// Tests of the shared stress integrators (framework/src/plasticity/plasticity_integrate.cpp):
 // Krieg & Krieg's exact von Mises solution (verification.md M3), Sloan's error-controlled
 // substepping (M4), the multi-surface active-set strategy against an exact projection,
 // continuum tangents, parameters, and failures returned as Outcomes.

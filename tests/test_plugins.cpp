@@ -1,9 +1,9 @@
 // The plugin registry and loader: load on demand, ABI check, unknown and
 // duplicate names, schema validation messages.
+#include "scene/toml_check.hpp"
 #include "scene_helpers.hpp"
 #include "stratum/plugin.hpp"
 #include "stratum/plugin_loader.hpp"
-#include "toml_check.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -2,10 +2,10 @@
 // the values arrive typed and located, nothing is created or meshed while reading, text errors
 // are found before mesh errors, and what needs the mesh is checked when the scene is built.
 #include "scene/scene.hpp"
+#include "scene/toml_check.hpp"
 #include "scene_helpers.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/error.hpp"
-#include "toml_check.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -2,9 +2,10 @@
 // checkpoints and restart (issue 7).
 #include "scene_helpers.hpp"
 
-#include "checkpoint.hpp"
-#include "output_folder.hpp"
-#include "stratum/body_interfaces.hpp"
+#include "model/body_interfaces.hpp"
+#include "output/interface_output.hpp"
+#include "output/output_folder.hpp"
+#include "run/checkpoint.hpp"
 #include "stratum/error.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,5 +1,5 @@
 // "Did you mean": the edit distance against hand-counted values and the closeness rule.
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 #include <catch2/catch.hpp>
 

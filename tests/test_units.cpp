@@ -2,12 +2,12 @@
 // problem in kN, m and in N, mm gives the same numbers after conversion, defaults that plugins
 // declare in kN, m, kPa convert, the labels of the results follow, bad units are located errors.
 #include "output/pile_components.hpp"
+#include "scene/toml_check.hpp"
 #include "scene_helpers.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/point_driver.hpp"
 #include "stratum/registry.hpp"
 #include "stratum/units.hpp"
-#include "toml_check.hpp"
 
 #include <catch2/catch.hpp>
 #include <toml++/toml.h>

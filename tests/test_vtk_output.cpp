@@ -1,4 +1,4 @@
-#include "stratum/vtk_output.hpp"
+#include "output/vtk_output.hpp"
 
 #include <catch2/catch.hpp>
 

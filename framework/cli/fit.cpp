@@ -12,12 +12,12 @@
 // comments are echoed to stderr).
 #include "fit.hpp"
 
+#include "files.hpp"
 #include "stratum/calibration.hpp"
 #include "stratum/error.hpp"
-#include "stratum/files.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/registry.hpp"
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 #include <charconv>
 #include <cmath>

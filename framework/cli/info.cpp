@@ -1,11 +1,11 @@
 // `stratum plugins` and `stratum describe` (framework/cli/info.hpp).
 #include "info.hpp"
 
+#include "scene/reference.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/plugin.hpp"
 #include "stratum/plugin_loader.hpp"
-#include "stratum/scene_reference.hpp"
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 #include <algorithm>
 #include <filesystem>

@@ -14,12 +14,12 @@
 // Errors are one line on stderr and a non-zero exit code.
 #include "fit.hpp"
 #include "info.hpp"
+#include "scene/reference.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/plugin.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/point_driver.hpp"
-#include "stratum/scene_reference.hpp"
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 #include "sweep.hpp"
 
 #include <unistd.h>

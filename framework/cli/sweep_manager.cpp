@@ -3,7 +3,7 @@
 // and samples.csv at the end.
 #include "sweep_manager.hpp"
 
-#include "stratum/files.hpp"
+#include "files.hpp"
 
 #ifdef STRATUM_HAVE_MPI
 #define OMPI_SKIP_MPICXX 1 // the C API only

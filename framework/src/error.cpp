@@ -1,4 +1,5 @@
 #include "stratum/error.hpp"
+#include "stratum/enum_names.hpp"
 
 namespace stratum {
 
@@ -15,21 +16,9 @@ Error::Error(SourceLocation where, const std::string& message)
       message_(message) {}
 
 const char* to_string(Status s) {
-  switch (s) {
-  case Status::ok:
-    return "ok";
-  case Status::not_converged:
-    return "not converged";
-  case Status::material_failure:
-    return "material failure";
-  case Status::singular:
-    return "singular matrix";
-  case Status::non_finite:
-    return "NaN or Inf";
-  case Status::diverged:
-    return "diverged";
-  }
-  return "unknown";
+  static constexpr std::array<const char*, 6> names{
+      "ok", "not converged", "material failure", "singular matrix", "NaN or Inf", "diverged"};
+  return enum_name(s, names, "unknown");
 }
 
 } // namespace stratum

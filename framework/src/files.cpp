@@ -1,5 +1,5 @@
-// Atomic writing of result files (stratum/files.hpp).
-#include "stratum/files.hpp"
+// Atomic writing of result files (files.hpp).
+#include "files.hpp"
 
 #include "stratum/error.hpp"
 

@@ -1,5 +1,5 @@
 #include "stratum/linear_solver.hpp"
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>

@@ -1,4 +1,5 @@
 #include "stratum/params.hpp"
+#include "stratum/enum_names.hpp"
 
 #include <cmath>
 #include <limits>
@@ -7,19 +8,9 @@
 namespace stratum {
 
 const char* to_string(ParamType t) {
-  switch (t) {
-  case ParamType::real:
-    return "number";
-  case ParamType::integer:
-    return "integer";
-  case ParamType::boolean:
-    return "boolean";
-  case ParamType::text:
-    return "string";
-  case ParamType::real_list:
-    return "array of numbers";
-  }
-  return "?";
+  static constexpr std::array<const char*, 5> names{"number", "integer", "boolean", "string",
+                                                    "array of numbers"};
+  return enum_name(t, names);
 }
 
 namespace {
@@ -107,6 +98,7 @@ void Params::set(const std::string& name, ParamValue value, SourceLocation where
 const ParamValue& Params::get(const std::string& name) const {
   auto it = values_.find(name);
   if (it == values_.end()) throw Error(context + " parameter '" + name + "' was not declared by the plugin");
+  read_.insert(name);
   return it->second.first;
 }
 

@@ -1,7 +1,7 @@
 #include "stratum/plugin_loader.hpp"
 
 #include "stratum/plugin.hpp"
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 #include <dlfcn.h>
 

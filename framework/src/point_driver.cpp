@@ -1,11 +1,11 @@
 #include "stratum/point_driver.hpp"
 
+#include "files.hpp"
 #include "memory.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/tables.hpp"
-#include "stratum/files.hpp"
+#include "scene/toml_check.hpp"
 #include "stratum/registry.hpp"
-#include "toml_check.hpp"
 
 #include <Eigen/LU>
 

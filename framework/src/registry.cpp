@@ -1,27 +1,14 @@
 #include "stratum/registry.hpp"
+#include "stratum/enum_names.hpp"
 
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 namespace stratum {
 
 const char* to_string(PluginKind k) {
-  switch (k) {
-  case PluginKind::material:
-    return "material";
-  case PluginKind::element:
-    return "element";
-  case PluginKind::contact_law:
-    return "contact_law";
-  case PluginKind::solver:
-    return "solver";
-  case PluginKind::stage_action:
-    return "stage_action";
-  case PluginKind::mesh_generator:
-    return "mesh_generator";
-  case PluginKind::calibration:
-    return "calibration";
-  }
-  return "?";
+  static constexpr std::array<const char*, 7> names{"material",     "element",        "contact_law", "solver",
+                                                    "stage_action", "mesh_generator", "calibration"};
+  return enum_name(k, names);
 }
 
 bool plugin_kind_from_string(const std::string& s, PluginKind& kind) {

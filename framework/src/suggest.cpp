@@ -1,4 +1,4 @@
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 #include <algorithm>
 #include <cctype>

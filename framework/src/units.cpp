@@ -1,6 +1,6 @@
 #include "stratum/units.hpp"
 
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 #include <cctype>
 #include <cmath>

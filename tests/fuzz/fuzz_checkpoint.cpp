@@ -1,4 +1,4 @@
-// libFuzzer target: the checkpoint reader (framework/src/checkpoint.cpp, read_checkpoint) from bytes.
+// libFuzzer target: the checkpoint reader (framework/src/run/checkpoint.cpp, read_checkpoint) from bytes.
 //
 // The first byte chooses how the rest is used:
 //  * even: the rest is a whole checkpoint file (header line and payload) as read from disk;
@@ -7,7 +7,7 @@
 //    happens to match).
 // The contract checked: a damaged checkpoint ends in stratum::Error naming the file; any other
 // exception aborts here, as do the sanitizers' findings.
-#include "checkpoint.hpp"
+#include "run/checkpoint.hpp"
 
 #include "stratum/error.hpp"
 

@@ -49,7 +49,7 @@ struct RunTimes {
   long assemblies = 0, analyses = 0, factorizations = 0, solves = 0;
 };
 
-/// One [[checks]] entry after the run (framework/src/recorders.hpp).
+/// One [[checks]] entry after the run (framework/src/output/recorders.hpp).
 struct CheckResult {
   std::string label; ///< recorder.quantity
   std::string unit;  ///< the quantity's unit as kN, m, kPa spell it ("m", "kPa", "-"; Units::label)

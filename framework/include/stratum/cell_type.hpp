@@ -10,7 +10,7 @@
 //    4-7 the top face above them (VTK_HEXAHEDRON's order);
 //  * tetrahedron: corners 0-3, with (x1 - x0) x (x2 - x0) . (x3 - x0) > 0 (VTK_TETRA's order);
 //  * wedge: 0-2 the bottom triangle, 3-5 the top triangle above them (VTK_WEDGE's order);
-//  * node_pair: a two-node contact cell (stratum/body_interfaces.hpp): slot 0 the node of body 1,
+//  * node_pair: a two-node contact cell (framework/src/model/body_interfaces.hpp): slot 0 the node of body 1,
 //    slot 1 its coincident partner of body 2, slots 2 and 3 the body-1 nodes before and after slot 0
 //    along the interface, for the direction and tributary length;
 //  * line_interface: a zero-thickness quadrilateral: slots 0, 1 (and midside 4) on body 1, slots 2,
@@ -19,6 +19,9 @@
 // the coordinates of the present nodes in slot order.
 #pragma once
 
+#include "stratum/enum_names.hpp"
+
+#include <array>
 #include <cstdint>
 
 namespace stratum {
@@ -69,23 +72,9 @@ inline constexpr int max_cell_slots = 8;
 
 /// The name of the type, for messages and `stratum describe`.
 [[nodiscard]] constexpr const char* to_string(CellType t) {
-  switch (t) {
-  case CellType::quadrilateral:
-    return "quadrilateral";
-  case CellType::triangle:
-    return "triangle";
-  case CellType::node_pair:
-    return "node_pair";
-  case CellType::line_interface:
-    return "line_interface";
-  case CellType::hexahedron:
-    return "hexahedron";
-  case CellType::tetrahedron:
-    return "tetrahedron";
-  case CellType::wedge:
-    return "wedge";
-  }
-  return "?";
+  constexpr std::array<const char*, 7> names{"quadrilateral", "triangle",    "node_pair", "line_interface",
+                                             "hexahedron",    "tetrahedron", "wedge"};
+  return enum_name(t, names);
 }
 
 } // namespace stratum

@@ -27,7 +27,7 @@ struct LoadSpec {
   double fx = 0.0, fy = 0.0; ///< force per node (kN)
   bool top_of_cells = false; ///< pressure on the top faces of the cell set `set` (a pile head)
 
-  /// Checkpoints keep the applied loads (framework/src/checkpoint.hpp).
+  /// Checkpoints keep the applied loads (framework/src/run/checkpoint.hpp).
   template <class Ar> void serialize(Ar& ar, unsigned /*version*/) {
     ar& name& kind& set& p& gamma& surface& critical_depth& total_force& fx& fy& top_of_cells;
   }

@@ -115,11 +115,17 @@ public:
   [[nodiscard]] SourceLocation where(const std::string& name) const;
   /// The context of this block, e.g. "[materials.soil]", for messages.
   std::string context;
+  /// The parameters read so far through real(), integer(), flag(), text() or real_list() (has()
+  /// and where() do not count). A parameter a factory declares but never reads when a scene sets
+  /// it would be silently ignored: tests/test_params_read.cpp holds every factory to reading all.
+  /// Not synchronized: read parameters where the object is created, not in parallel updates.
+  [[nodiscard]] const std::set<std::string>& read_names() const { return read_; }
 
 private:
   const ParamValue& get(const std::string& name) const;
   std::map<std::string, std::pair<ParamValue, SourceLocation>> values_;
   std::set<std::string> lists_;
+  mutable std::set<std::string> read_;
 };
 
 } // namespace stratum

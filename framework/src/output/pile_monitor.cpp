@@ -1,6 +1,7 @@
 #include "output/pile_monitor.hpp"
+#include "model/body_interfaces.hpp"
+#include "output/interface_output.hpp"
 #include "output/pile_curves.hpp"
-#include "stratum/body_interfaces.hpp"
 #include "stratum/load.hpp"
 
 #include <algorithm>

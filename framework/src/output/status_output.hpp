@@ -14,8 +14,8 @@
 // of active cells and points as the other integration-point fields.
 #pragma once
 
+#include "output/vtk_output.hpp"
 #include "stratum/model.hpp"
-#include "stratum/vtk_output.hpp"
 
 #include <string>
 #include <utility>

@@ -1,9 +1,9 @@
 // One VTK output step: displacements, reactions, cell stresses, the integration-point cloud
 // with the materials' named history variables, and the interface fields.
-#include "analysis_impl.hpp"
+#include "output/interface_output.hpp"
+#include "output/run_view.hpp"
+#include "output/vtk_output.hpp"
 #include "status_output.hpp"
-#include "stratum/body_interfaces.hpp"
-#include "stratum/load.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -12,23 +12,6 @@
 namespace fs = std::filesystem;
 
 namespace stratum {
-
-void Analysis::Impl::record_stage_loads(const std::vector<LoadSpec>& before) {
-  auto named = [](const std::vector<LoadSpec>& list, const std::string& name) {
-    return std::any_of(list.begin(), list.end(), [&](const LoadSpec& l) { return l.name == name; });
-  };
-  auto resultant = [&](const LoadSpec& l) {
-    Eigen::VectorXd f = Eigen::VectorXd::Zero(model.u.size());
-    add_load(model, l, f);
-    double fy = 0.0;
-    for (Eigen::Index d = 1; d < f.size(); d += 2) fy += f[d];
-    return fy;
-  };
-  stage_loads.clear();
-  for (const auto& l : loads) stage_loads.push_back({l.name, named(before, l.name) ? 0 : 1, resultant(l)});
-  for (const auto& l : before)
-    if (!named(loads, l.name)) stage_loads.push_back({l.name, -1, resultant(l)});
-}
 
 namespace {
 
@@ -78,22 +61,25 @@ void history_fields(const Model& m, std::vector<OutputArray>& ip_history,
 
 } // namespace
 
-void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
-  const Model& m = model;
+void write_step(VtkSeriesWriter& w, const RunView& run) {
+  const Model& m = run.model;
+  const RunState& state = run.state;
+  const scene::Settings& settings = run.settings;
+  const Units& units = run.units;
   OutputStep out;
-  out.time = time;
+  out.time = state.time;
   out.mesh = &m.mesh;
-  out.texts = {{"stage", stage_name}};
+  out.texts = {{"stage", state.stage_name}};
   // Other units than kN, m: named in the field data (kN, m writes what it always wrote).
   if (!units.is_default()) out.texts.push_back({"units", units.describe()});
-  out.values = {{"stage_number", stage_number},
-                {"step", stage_step},
+  out.values = {{"stage_number", state.stage_number},
+                {"step", state.stage_step},
                 {"load_factor", m.lambda},
-                {units.column("head_load", "kN"), last_head_load},
-                {"head_settlement_" + units.small_length(), last_head_settlement}};
+                {units.column("head_load", "kN"), state.head_load},
+                {"head_settlement_" + units.small_length(), state.head_settlement}};
   // Every load of the stage: the fraction of its full value applied now and its vertical
   // resultant (y up; 0 for a pressure on a vertical wall), named after the load.
-  for (const auto& l : stage_loads) {
+  for (const auto& l : state.stage_loads) {
     const double fraction = l.ramp == 0 ? 1.0 : (l.ramp > 0 ? m.lambda : 1.0 - m.lambda);
     out.values.push_back({"load." + l.name + ".fraction", fraction});
     out.values.push_back({"load." + l.name + "." + units.column("Fy", "kN"), fraction * l.fy});
@@ -156,14 +142,15 @@ void Analysis::Impl::write_step(VtkSeriesWriter& w, double time) const {
   if (settings.ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain), std::move(ip_plastic)};
   for (auto& f : ip_history) out.ip_fields.push_back(std::move(f));
   add_status_names(m, out, settings.ip_output); // "domain", "domains", "plastic_regimes_<domain>"
-  if (settings.ip_output && !interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
+  if (settings.ip_output && !run.interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
   w.write(out);
-  for (const auto& itf : interfaces.interfaces)
+  for (const auto& itf : run.interfaces.interfaces)
     if (itf.csv)
-      write_interface_csv(interface_points(m, m.domains[itf.domain]),
-                          (fs::path(out_dir) / (fs::path(path).stem().string() + "_" + itf.name + "_" +
-                                                std::to_string(w.steps_written() - 1) + ".csv"))
-                              .string());
+      write_interface_csv(
+          interface_points(m, m.domains[itf.domain]),
+          (fs::path(run.out_dir) / (fs::path(run.scene_path).stem().string() + "_" + itf.name + "_" +
+                                    std::to_string(w.steps_written() - 1) + ".csv"))
+              .string());
 }
 
 } // namespace stratum

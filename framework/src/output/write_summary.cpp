@@ -1,8 +1,9 @@
 // <out>/summary.toml: how the run ended, in a file beside its results (the same facts the
 // `stratum run` lines print), so that a folder of results says whether its curve ends at a
 // collapse, a settlement limit, a numerical failure or the end of the load programme.
-#include "analysis_impl.hpp"
-#include "stratum/files.hpp"
+#include "files.hpp"
+#include "output/run_view.hpp"
+#include "stratum/analysis.hpp"
 
 #include <toml++/toml.h>
 
@@ -65,9 +66,9 @@ std::string summary_toml(const RunSummary& summary, const std::string& scene, st
   return o.str();
 }
 
-void Analysis::Impl::write_summary(const RunSummary& summary) const {
+void write_summary(const RunSummary& summary, const std::string& scene, std::size_t stages) {
   write_file_atomically((fs::path(summary.out_dir) / "summary.toml").string(),
-                        summary_toml(summary, path, stages.size()));
+                        summary_toml(summary, scene, stages));
 }
 
 } // namespace stratum

@@ -1,7 +1,8 @@
 // diagnostics.csv, the recorders' histories and the pile curves (curves/*.csv).
-#include "analysis_impl.hpp"
+#include "files.hpp"
 #include "output/pile_components.hpp"
-#include "stratum/files.hpp"
+#include "output/recorders.hpp"
+#include "output/run_view.hpp"
 
 #include <filesystem>
 #include <iomanip>
@@ -15,25 +16,23 @@ namespace stratum {
 /// seconds during a stage (so that a long run's tables grow while it runs and a kill loses at
 /// most the last seconds), and at the end. `live`: the accepted steps of the running stage (its
 /// failed attempts join at the stage's end).
-void Analysis::Impl::write_tables(const RunSummary& summary,
-                                  const std::vector<std::array<double, 3>>& axial_rows,
-                                  const std::vector<StepRecord>& live) {
-  Model& m = model;
-  if (options.write_output)
-    for (const auto& r : recorders)
-      write_file_atomically((fs::path(summary.out_dir) / "history" / (r.name() + ".csv")).string(), r.csv());
-  if (options.write_output) {
-    if (live.empty()) {
-      write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
-    } else {
-      std::vector<StepRecord> all = summary.records;
-      all.insert(all.end(), live.begin(), live.end());
-      write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), all);
-    }
+void write_tables(const RunView& run, const RunSummary& summary, const std::vector<Recorder>& recorders,
+                  const std::vector<StepRecord>& live) {
+  const Model& m = run.model;
+  const auto& axial_rows = run.state.axial_rows;
+  const auto& shaft_rows = run.state.shaft_rows;
+  for (const auto& r : recorders)
+    write_file_atomically((fs::path(summary.out_dir) / "history" / (r.name() + ".csv")).string(), r.csv());
+  if (live.empty()) {
+    write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
+  } else {
+    std::vector<StepRecord> all = summary.records;
+    all.insert(all.end(), live.begin(), live.end());
+    write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), all);
   }
-  if (options.write_output && !summary.load_settlement.empty()) {
+  if (!summary.load_settlement.empty()) {
     std::ostringstream ls, af;
-    const Units& u = units;
+    const Units& u = run.units;
     const std::string load = u.column("load", "kN"), depth = u.column("depth", "m");
     ls << std::setprecision(10) << load << ',' << "settlement_" << u.small_length() << '\n';
     for (const auto& r : summary.load_settlement) ls << r[0] << ',' << r[1] << '\n';
@@ -41,7 +40,7 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
     if (!axial_rows.empty()) {
       af << std::setprecision(10) << load << ',' << depth << ',' << u.column("axial_force", "kN") << '\n';
       double top = -std::numeric_limits<double>::infinity();
-      for (int c : m.mesh.cell_sets.at(settings.pile_cells))
+      for (int c : m.mesh.cell_sets.at(run.settings.pile_cells))
         for (int n : m.mesh.cells[static_cast<std::size_t>(c)].nodes)
           if (n >= 0) top = std::max(top, m.mesh.nodes[static_cast<std::size_t>(n)].y());
       for (const auto& r : axial_rows) af << r[0] << ',' << top - r[1] << ',' << r[2] << '\n';
@@ -67,7 +66,6 @@ void Analysis::Impl::write_tables(const RunSummary& summary,
                             sc.str());
     }
   }
-  last_tables = std::chrono::steady_clock::now();
 }
 
 } // namespace stratum

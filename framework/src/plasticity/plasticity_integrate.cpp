@@ -38,6 +38,7 @@
 // Counters: yield_evaluations counts every f_k evaluation; substeps counts the (attempted)
 // substeps of forward_euler and modified_euler and 1 for the other schemes (plastic increments); iterations
 // counts Newton solves, cutting-plane iterations and drift-correction iterations.
+#include "stratum/enum_names.hpp"
 #include "stratum/plasticity/integrate.hpp"
 
 #include "plasticity_detail.hpp"
@@ -84,21 +85,9 @@ using namespace detail;
 // ---------------------------------------------------------------------------------------------
 
 const char* to_string(Scheme s) {
-  switch (s) {
-  case Scheme::forward_euler:
-    return "forward_euler";
-  case Scheme::modified_euler:
-    return "modified_euler";
-  case Scheme::trapezoidal:
-    return "trapezoidal";
-  case Scheme::midpoint:
-    return "midpoint";
-  case Scheme::cutting_plane:
-    return "cutting_plane";
-  case Scheme::closest_point:
-    return "closest_point";
-  }
-  return "unknown";
+  static constexpr std::array<const char*, 6> names{"forward_euler", "modified_euler", "trapezoidal",
+                                                    "midpoint",      "cutting_plane",  "closest_point"};
+  return enum_name(s, names, "unknown");
 }
 
 void add_integrator_parameters(Schema& schema, Scheme default_scheme) {

@@ -1,9 +1,10 @@
-// Analysis: from a scene file to a built model (scene/read_scene.cpp) and a run (run/run.cpp).
-#include "analysis_impl.hpp"
+// Analysis: from a scene file to the scene as read (scene/), the model built (model/) and a run
+// (run/run.cpp).
 #include "meshers/builtin_generators.hpp"
+#include "run/analysis_impl.hpp"
 #include "scene/scene.hpp"
+#include "scene/toml_check.hpp"
 #include "stages/builtin_actions.hpp"
-#include "toml_check.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -28,9 +29,13 @@ std::unique_ptr<Analysis> Analysis::from_string(const std::string& text, const s
   impl->path = path;
   impl->options = std::move(options);
   // The framework's own stage actions and mesh generators are registered like a plugin's.
-  register_builtin_factories(impl->registry);
-  impl->catalog = std::make_unique<PluginCatalog>(scene::plugin_directories(root, path, impl->options));
-  impl->build(scene::read(root, path, *impl->catalog, impl->registry));
+  SceneModel& sm = impl->sm;
+  register_builtin_factories(sm.registry);
+  sm.catalog = std::make_unique<PluginCatalog>(scene::plugin_directories(root, path, impl->options));
+  scene::Scene sc = scene::read(root, path, *sm.catalog, sm.registry);
+  sm.build(sc);
+  for (const auto& r : sc.history) impl->recorders.emplace_back(r, sm.model);
+  impl->checks = std::move(sc.checks);
   return std::unique_ptr<Analysis>(new Analysis(std::move(impl)));
 }
 
@@ -43,11 +48,11 @@ std::unique_ptr<Analysis> Analysis::from_file(const std::string& path, RunOption
   return from_string(ss.str(), path, std::move(options));
 }
 
-const Model& Analysis::model() const { return impl_->model; }
-Model& Analysis::model() { return impl_->model; }
-std::vector<std::string> Analysis::opened_libraries() const { return impl_->catalog->opened(); }
-std::string Analysis::title() const { return impl_->title; }
-std::vector<std::string> Analysis::warnings() const { return impl_->warnings; }
-const Units& Analysis::units() const { return impl_->units; }
+const Model& Analysis::model() const { return impl_->sm.model; }
+Model& Analysis::model() { return impl_->sm.model; }
+std::vector<std::string> Analysis::opened_libraries() const { return impl_->sm.catalog->opened(); }
+std::string Analysis::title() const { return impl_->sm.title; }
+std::vector<std::string> Analysis::warnings() const { return impl_->sm.warnings; }
+const Units& Analysis::units() const { return impl_->sm.units; }
 
 } // namespace stratum

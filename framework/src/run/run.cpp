@@ -1,8 +1,10 @@
 // Analysis::run: the stages in order, restart from a checkpoint, a checkpoint after each stage.
-#include "analysis_impl.hpp"
-#include "checkpoint.hpp"
-#include "output_folder.hpp"
+#include "output/output_folder.hpp"
+#include "output/vtk_output.hpp"
+#include "run/analysis_impl.hpp"
+#include "run/checkpoint.hpp"
 #include "run/timing.hpp"
+#include "stratum/enum_names.hpp"
 
 #include <filesystem>
 #include <optional>
@@ -12,25 +14,15 @@ namespace fs = std::filesystem;
 namespace stratum {
 
 const char* stop_reason_name(StopReason reason) {
-  switch (reason) {
-  case StopReason::none:
-    return "";
-  case StopReason::collapse:
-    return "collapse";
-  case StopReason::numerical:
-    return "numerical";
-  case StopReason::settlement:
-    return "settlement";
-  case StopReason::interrupted:
-    return "interrupted";
-  }
-  return "";
+  static constexpr std::array<const char*, 5> names{"", "collapse", "numerical", "settlement", "interrupted"};
+  return enum_name(reason, names, "");
 }
 
 RunSummary Analysis::run() {
   const auto t_run = std::chrono::steady_clock::now();
   Impl& s = *impl_;
-  Model& m = s.model;
+  Model& m = s.sm.model;
+  SceneModel& sm = s.sm;
   RunSummary summary;
   summary.out_dir =
       s.options.out_dir.empty() ? (fs::path("out") / fs::path(s.path).stem()).string() : s.options.out_dir;
@@ -39,16 +31,16 @@ RunSummary Analysis::run() {
   if (!s.options.restart_from.empty()) {
     const std::string& path = s.options.restart_from;
     Checkpoint c = read_checkpoint(path);
-    if (c.fingerprint != s.fingerprint)
+    if (c.fingerprint != sm.fingerprint)
       throw Error(path + ": the checkpoint belongs to another scene (it has \"" + c.fingerprint +
-                  "\", this scene has \"" + s.fingerprint + "\")");
+                  "\", this scene has \"" + sm.fingerprint + "\")");
     std::vector<FingerprintPart> saved;
     for (std::size_t i = 0; i < c.part_names.size() && i < c.part_digests.size() && i < c.part_stages.size();
          ++i)
       saved.push_back({c.part_names[i], c.part_digests[i], c.part_stages[i], {}});
     SourceLocation where;
-    s.add_library_parts();
-    if (const std::string why = fingerprint_mismatch(saved, s.parts, c.stages_done, &where); !why.empty())
+    sm.add_library_parts();
+    if (const std::string why = fingerprint_mismatch(saved, sm.parts, c.stages_done, &where); !why.empty())
       throw Error(where, "--restart-from " + path + ": " + why);
     if (c.states.size() != m.domains.size() || c.u.size() != static_cast<std::size_t>(m.u.size()))
       throw Error(path + ": the checkpoint does not match the scene's model size");
@@ -59,7 +51,7 @@ RunSummary Analysis::run() {
     m.constrained = c.constrained;
     s.loads = c.loads;
     for (std::size_t d = 0; d < m.domains.size(); ++d) m.domains[d].states.restore(c.states[d]);
-    s.time = c.time;
+    s.state.time = c.time;
     first = static_cast<std::size_t>(c.stages_done);
     summary.stages_done = c.stages_done;
   }
@@ -72,45 +64,45 @@ RunSummary Analysis::run() {
     folder->move_aside_previous(fs::path(s.path).stem().string(), static_cast<int>(first));
   }
   std::unique_ptr<VtkSeriesWriter> writer;
-  if (s.options.write_output && s.settings.vtk) {
+  if (s.options.write_output && sm.settings.vtk) {
     // With more than one thread allowed, the VTK files are written on a thread of the writer's
     // own while the next steps are solved (the sparse LU is serial, so a core is often free);
     // the files are the same. [analysis] threads = 1 keeps everything on one thread.
     writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string(),
-                                               s.settings.threads > 1);
-    timed(summary.times.output, [&] { s.write_step(*writer, s.time); });
+                                               sm.settings.threads > 1);
+    timed(summary.times.output, [&] { write_step(*writer, s.view()); });
   }
-  std::vector<std::array<double, 3>> axial_rows;
+  s.state.axial_rows.clear();
+  s.state.shaft_rows.clear();
   // The recorders' first row: the state the run starts from (step 0 of its first stage).
   for (auto& r : s.recorders) r.sample(m, static_cast<int>(first) + 1, 0, 0.0, 0);
-  for (std::size_t k = first; k < s.stages.size(); ++k) {
-    const bool go_on = s.run_stage(k, summary, writer.get(), axial_rows);
+  for (std::size_t k = first; k < sm.stages.size(); ++k) {
+    const bool go_on = s.run_stage(k, summary, writer.get());
     if (!summary.outcome.ok()) break;
-    if (go_on && k + 1 < s.stages.size())
-      timed(summary.times.output, [&] { s.write_tables(summary, axial_rows, {}); });
+    if (go_on && k + 1 < sm.stages.size()) timed(summary.times.output, [&] { s.write_tables(summary, {}); });
     summary.stages_done = static_cast<int>(k + 1);
-    if (s.stages[k].checkpoint && s.options.write_output && go_on) {
+    if (sm.stages[k].checkpoint && s.options.write_output && go_on) {
       const auto t_ckpt = std::chrono::steady_clock::now();
       Checkpoint c;
-      c.fingerprint = s.fingerprint;
-      s.add_library_parts();
-      for (const auto& p : s.parts)
+      c.fingerprint = sm.fingerprint;
+      sm.add_library_parts();
+      for (const auto& p : sm.parts)
         if (p.stage <= static_cast<int>(k)) {
           c.part_names.push_back(p.name);
           c.part_digests.push_back(p.digest);
           c.part_stages.push_back(p.stage);
         }
       c.stages_done = static_cast<int>(k + 1);
-      c.stage_name = s.stages[k].name;
+      c.stage_name = sm.stages[k].name;
       c.u.assign(m.u.data(), m.u.data() + m.u.size());
       c.reactions.assign(m.reactions.data(), m.reactions.data() + m.reactions.size());
       c.active = m.active;
       c.constrained = m.constrained;
       c.loads = s.loads;
       for (const auto& dm : m.domains) c.states.push_back(dm.states.committed_data());
-      c.time = s.time;
+      c.time = s.state.time;
       const auto path = (fs::path(summary.out_dir) / "checkpoints" /
-                         (std::to_string(k + 1) + "_" + s.stages[k].name + ".ckpt"))
+                         (std::to_string(k + 1) + "_" + sm.stages[k].name + ".ckpt"))
                             .string();
       write_checkpoint(path, c);
       summary.checkpoints.push_back(path);
@@ -126,9 +118,9 @@ RunSummary Analysis::run() {
     summary.pvd = writer->pvd_path();
   }
   const auto t_out = std::chrono::steady_clock::now();
-  s.write_tables(summary, axial_rows, {});
+  s.write_tables(summary, {});
   summary.checks = evaluate_checks(s.checks, s.recorders);
-  if (s.options.write_output) s.write_summary(summary);
+  if (s.options.write_output) write_summary(summary, s.path, sm.stages.size());
   summary.times.output += seconds_since(t_out);
   summary.times.total = seconds_since(t_run);
   return summary;

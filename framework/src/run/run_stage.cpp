@@ -1,7 +1,8 @@
 // Running one stage: its actions, its equilibrium problem, its load steps, and what each
 // accepted step records (the pile head through its monitor, the VTK step, the recorders).
-#include "analysis_impl.hpp"
 #include "output/pile_monitor.hpp"
+#include "output/vtk_output.hpp"
+#include "run/analysis_impl.hpp"
 #include "run/static_problem.hpp"
 #include "stratum/step_control.hpp"
 
@@ -155,26 +156,48 @@ void stage_failed(const stage::Stage& st, const StageResult& res, const Stiffnes
 
 } // namespace
 
-void Analysis::Impl::record_pile(const PileObservation& o, RunSummary& summary,
-                                 std::vector<std::array<double, 3>>& axial_rows) {
+void Analysis::Impl::record_pile(const PileObservation& o, RunSummary& summary) {
   if (!o.recorded) return;
   summary.load_settlement.push_back({o.load, o.settlement});
-  last_head_load = o.load;
-  last_head_settlement = o.settlement;
+  state.head_load = o.load;
+  state.head_settlement = o.settlement;
   if (o.components) summary.settlement_components.push_back(*o.components);
-  axial_rows.insert(axial_rows.end(), o.axial.begin(), o.axial.end());
-  shaft_rows.insert(shaft_rows.end(), o.shaft.begin(), o.shaft.end());
+  state.axial_rows.insert(state.axial_rows.end(), o.axial.begin(), o.axial.end());
+  state.shaft_rows.insert(state.shaft_rows.end(), o.shaft.begin(), o.shaft.end());
 }
 
-bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer,
-                               std::vector<std::array<double, 3>>& axial_rows) {
-  stage::Stage& st = stages[k];
-  stage_name = st.name;
-  stage_number = static_cast<int>(k) + 1;
-  stage_step = 0;
-  if (options.on_stage) options.on_stage(st.name, stage_number, static_cast<int>(stages.size()));
-  Model& m = model;
-  m.prescribed = k == 0 ? initial_prescribed : Eigen::VectorXd::Zero(m.u.size());
+void Analysis::Impl::record_stage_loads(const std::vector<LoadSpec>& before) {
+  auto named = [](const std::vector<LoadSpec>& list, const std::string& name) {
+    return std::any_of(list.begin(), list.end(), [&](const LoadSpec& l) { return l.name == name; });
+  };
+  auto resultant = [&](const LoadSpec& l) {
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(sm.model.u.size());
+    add_load(sm.model, l, f);
+    double fy = 0.0;
+    for (Eigen::Index d = 1; d < f.size(); d += 2) fy += f[d];
+    return fy;
+  };
+  auto& stage_loads = state.stage_loads;
+  stage_loads.clear();
+  for (const auto& l : loads) stage_loads.push_back({l.name, named(before, l.name) ? 0 : 1, resultant(l)});
+  for (const auto& l : before)
+    if (!named(loads, l.name)) stage_loads.push_back({l.name, -1, resultant(l)});
+}
+
+void Analysis::Impl::write_tables(const RunSummary& summary, const std::vector<StepRecord>& live) {
+  if (options.write_output) stratum::write_tables(view(), summary, recorders, live);
+  last_tables = std::chrono::steady_clock::now();
+}
+
+bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWriter* writer) {
+  stage::Stage& st = sm.stages[k];
+  const scene::Settings& settings = sm.settings;
+  state.stage_name = st.name;
+  state.stage_number = static_cast<int>(k) + 1;
+  state.stage_step = 0;
+  if (options.on_stage) options.on_stage(st.name, state.stage_number, static_cast<int>(sm.stages.size()));
+  Model& m = sm.model;
+  m.prescribed = k == 0 ? sm.initial_prescribed : Eigen::VectorXd::Zero(m.u.size());
   m.prescribed_base = m.u;
 
   // ---- actions, in order (stratum/stage_action.hpp)
@@ -198,12 +221,11 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
 
   // ---- the pile's quantities (output/pile_monitor.hpp)
   std::vector<std::size_t> itf;
-  for (const auto& i : interfaces.interfaces) itf.push_back(i.domain);
+  for (const auto& i : sm.interfaces.interfaces) itf.push_back(i.domain);
   const std::vector<int>* pile_cells =
       settings.pile_cells.empty() ? nullptr : &m.mesh.cell_sets.at(settings.pile_cells);
-  PileMonitor pile(m, st, actions.head_load, actions.head_nodes, pile_cells, std::move(itf), units);
-  if (pile.has_head() && summary.load_settlement.empty())
-    record_pile(pile.observe(m, false), summary, axial_rows);
+  PileMonitor pile(m, st, actions.head_load, actions.head_nodes, pile_cells, std::move(itf), sm.units);
+  if (pile.has_head() && summary.load_settlement.empty()) record_pile(pile.observe(m, false), summary);
 
   // ---- load steps (stratum/step_control.hpp)
   const int nominal_steps = st.increments.empty() ? st.steps : static_cast<int>(st.increments.size());
@@ -220,20 +242,20 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     m.reactions = problem.internal_force();
     stiffness.add(m);
     step = rec.step;
-    stage_step = step;
+    state.stage_step = step;
     ++summary.steps_done;
-    time = static_cast<double>(k) + m.lambda;
+    state.time = static_cast<double>(k) + m.lambda;
     if (options.on_step) options.on_step(step, nominal_steps, m.lambda, rep);
     if (options.on_record) options.on_record(rec);
     // first: the step's VTK field data carries the head load it records
-    record_pile(pile.observe(m, true), summary, axial_rows);
+    record_pile(pile.observe(m, true), summary);
     written = writer && st.vtk && step % st.every == 0;
-    if (written) timed(summary.times.output, [&] { write_step(*writer, time); });
+    if (written) timed(summary.times.output, [&] { write_step(*writer, view()); });
     for (auto& r : recorders) r.sample(m, static_cast<int>(k) + 1, step, m.lambda, rec.iterations);
     live.push_back(rec);
     live.back().stage = static_cast<int>(k) + 1;
-    if (options.write_output && seconds_since(last_tables) >= settings.tables_every)
-      timed(summary.times.output, [&] { write_tables(summary, axial_rows, live); });
+    if (seconds_since(last_tables) >= settings.tables_every)
+      timed(summary.times.output, [&] { write_tables(summary, live); });
   };
   bool settled = false, interrupted = false;
   const bool watch = pile.watches_settlement();
@@ -242,11 +264,11 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
       if (watch && (settled = pile.settlement_reached(m))) return true;
       return interrupted = options.interrupted && options.interrupted();
     };
-  solver = solver_factory->create(solver_params);
+  solver = sm.solver_factory->create(sm.solver_params);
   StageResult res = stratum::run_stage(problem, *solver, stepping, cb, u);
   collect_steps(res, static_cast<int>(k) + 1, summary);
   if (writer && st.vtk && step > 0 && !written)
-    timed(summary.times.output, [&] { write_step(*writer, time); });
+    timed(summary.times.output, [&] { write_step(*writer, view()); });
   if (!res.outcome.ok()) {
     stage_failed(st, res, stiffness, summary);
     return false;
@@ -257,7 +279,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   }
   if (st.reset_after) {
     m.u.setZero();
-    if (writer && st.vtk) write_step(*writer, time);
+    if (writer && st.vtk) write_step(*writer, view());
   }
   return true;
 }

@@ -4,9 +4,9 @@
 // actions, mesh generators, the point driver's material) goes through here.
 #pragma once
 
+#include "scene/toml_check.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/registry.hpp"
-#include "toml_check.hpp"
 
 #include <toml++/toml.h>
 

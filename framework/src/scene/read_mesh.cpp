@@ -1,13 +1,13 @@
 // [mesh]: generated blocks, a Gmsh file, or a registered mesh generator; read into a MeshSpec
 // (scene.hpp), then built (the generator run, the file read, the mesh checked).
-#include "analysis_impl.hpp"
 #include "meshers/builtin_generators.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/scene.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"
+#include "scene/toml_check.hpp"
 #include "stratum/mesh_io.hpp"
-#include "toml_check.hpp"
+#include "suggest.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,27 +26,6 @@ using scene::optional_table;
 using scene::table_at;
 using scene::table_list;
 using namespace scene;
-
-// A Gmsh file's physical groups are names the user chose; one that no string of the scene names
-// is likely a misspelling elsewhere (or a group left over). Generated meshes are not looked at:
-// their generators define many sets a scene does not need (the pile mesher some forty).
-void Analysis::Impl::unused_physical_groups(const std::set<std::string>& named, const SourceLocation& at,
-                                            const std::string& file) {
-  std::set<std::string> unused;
-  for (const auto* sets : {&model.mesh.cell_sets, &model.mesh.node_sets})
-    for (const auto& [name, v] : *sets)
-      if (name != "all" && !named.count(name)) unused.insert(name);
-  for (const auto& [name, v] : model.mesh.edge_sets)
-    if (!named.count(name)) unused.insert(name);
-  if (unused.empty()) return;
-  std::string list;
-  for (const auto& n : unused) list += (list.empty() ? "" : ", ") + n;
-  std::ostringstream o;
-  o << at.str() << " [mesh] file = \"" << file << "\": " << unused.size() << " physical group"
-    << (unused.size() == 1 ? "" : "s") << " that the scene never names: " << list
-    << " (harmless if left over; otherwise check the set names)";
-  warnings.push_back(o.str());
-}
 
 scene::MeshSpec scene::read_mesh(const toml::table& root, const std::string& path, PluginCatalog& catalog,
                                  Registry& registry, const Units& units) {
@@ -126,64 +105,6 @@ scene::MeshSpec scene::read_mesh(const toml::table& root, const std::string& pat
     spec.file_path = f.string();
   }
   return spec;
-}
-
-void Analysis::Impl::build_mesh(const scene::Scene& sc) {
-  const scene::MeshSpec& spec = sc.mesh;
-  switch (spec.source) {
-  case scene::MeshSpec::Source::blocks:
-    try {
-      model.mesh = generate_blocks(spec.blocks, spec.nodes_per_cell);
-    } catch (const Error& e) {
-      if (e.where().known()) throw;
-      // The generator names the block; locate the first block table that carries that name.
-      SourceLocation at = spec.at;
-      for (std::size_t i = 0; i < spec.blocks.size(); ++i)
-        if (e.message().find("'" + spec.blocks[i].name + "'") != std::string::npos) {
-          at = spec.block_at[i];
-          if (e.message().find("used more than once") == std::string::npos) break;
-        }
-      throw Error(at, "[mesh] " + e.message());
-    }
-    if (spec.polar)
-      for (auto& x : model.mesh.nodes) {
-        const double r = x.x(), t = x.y() * std::numbers::pi / 180.0;
-        x = Eigen::Vector2d(r * std::cos(t), r * std::sin(t));
-      }
-    break;
-  case scene::MeshSpec::Source::generator: {
-    const auto mesher = spec.mesher.create();
-    try {
-      model.mesh = mesher->generate(MeshRequest{model.formulation, spec.nodes_per_cell});
-    } catch (const Error& e) {
-      if (e.where().known()) throw;
-      throw Error(spec.generator_table_at, e.message());
-    }
-    break;
-  }
-  case scene::MeshSpec::Source::gmsh: {
-    const fs::path f = spec.file_path;
-    std::error_code ec;
-    if (!fs::is_regular_file(f, ec))
-      throw Error(spec.file_at, "[mesh] file = \"" + spec.file + "\": " +
-                                    (fs::exists(f, ec) ? "is not a regular file (a folder?)"
-                                                       : "no such file ('" + f.string() + "')") +
-                                    "; give a Gmsh .msh 4.1 ASCII file");
-    model.mesh = read_gmsh(f.string());
-    unused_physical_groups(sc.strings, spec.file_at, spec.file);
-    break;
-  }
-  }
-  model.mesh.check();
-  if (!settings.pile_cells.empty() && !model.mesh.cell_sets.count(settings.pile_cells))
-    throw Error(sc.settings.pile_cells_at,
-                "[output] pile_cells = \"" + settings.pile_cells +
-                    "\" is not a cell set of the mesh; known: " + key_list(model.mesh.cell_sets));
-  if (model.formulation == Formulation::axisymmetric)
-    for (std::size_t n = 0; n < model.mesh.nodes.size(); ++n)
-      if (model.mesh.nodes[n].x() < -1e-12)
-        throw Error(spec.at, "[mesh] node " + std::to_string(n) + " has a negative radius x = " +
-                                 std::to_string(model.mesh.nodes[n].x()) + " in an axisymmetric scene");
 }
 
 } // namespace stratum

@@ -1,12 +1,12 @@
 // Reading a scene (scene.hpp): the top level, the plugin path, [analysis], [convergence], [output]
-// and the solver here; the other sections in read_mesh.cpp, read_domains.cpp, body_interfaces.cpp
-// and read_stages.cpp. Building the run's state from the Scene: Analysis::Impl::build below.
-#include "analysis_impl.hpp"
+// and the solver here; the other sections in read_mesh.cpp, read_domains.cpp, read_interfaces.cpp
+// and read_stages.cpp. Building the model from the Scene: model/scene_model.hpp.
 #include "scene/plugin_table.hpp"
 #include "scene/scene.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"
-#include "toml_check.hpp"
+#include "scene/toml_check.hpp"
+#include "suggest.hpp"
 #include "worker_pool.hpp"
 
 #include <algorithm>
@@ -206,40 +206,6 @@ scene::Scene scene::read(const toml::table& root, const std::string& path, Plugi
   strings_of(root, sc.strings);
   sc.parts = scene_parts(root, STRATUM_VERSION);
   return sc;
-}
-
-void Analysis::Impl::build(scene::Scene sc) {
-  title = sc.title;
-  units = sc.units;
-  settings = sc.settings;
-  model.formulation = settings.formulation;
-  solver_factory = sc.solver.factory;
-  solver_params = sc.solver.params;
-  solver = sc.solver.create(); // checks the parameters now; each stage gets its own (run_stage)
-
-  build_mesh(sc);
-  build_domains(sc);
-  build_scene_interfaces(sc, model, interfaces);
-  build_constraints(sc);
-  build_stages(sc);
-  for (const auto& r : sc.history) recorders.emplace_back(r, model);
-  checks = std::move(sc.checks);
-
-  // What a checkpoint must match: mesh size, domain layout, stage names.
-  std::ostringstream fp;
-  fp << "nodes " << model.mesh.nodes.size() << " cells " << model.mesh.cells.size();
-  for (const auto& dm : model.domains)
-    fp << " domain " << dm.name << ':' << dm.states.points() << 'x' << dm.states.stride();
-  // The unknowns when the scene has fields besides the displacement (a checkpoint of a
-  // displacement-only scene keeps the fingerprint it had before fields existed).
-  if (model.dofs.fields.size() > static_cast<std::size_t>(model.dim()))
-    fp << " fields " << model.dofs.field_list() << " unknowns " << model.dofs.total();
-  fp << " stages";
-  for (const auto& st : stages) fp << ' ' << st.name;
-  fingerprint = fp.str();
-  parts = std::move(sc.parts);
-  for (auto& part : parts)
-    if (part.name == mesh_part_name) part.digest = mesh_digest(model.mesh);
 }
 
 } // namespace stratum

@@ -1,12 +1,12 @@
 // [[stages]] (or the [[loads]] of a scene without stages) and what a stage inherits: read into
 // the Scene (scene.hpp), then built (actions created and checked against the mesh in order).
-#include "analysis_impl.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/scene.hpp"
 #include "scene/schemas.hpp"
 #include "scene/tables.hpp"
+#include "scene/toml_check.hpp"
 #include "stages/builtin_actions.hpp"
-#include "toml_check.hpp"
+#include "suggest.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -186,32 +186,6 @@ void scene::read_stages(const toml::table& root, PluginCatalog& catalog, Registr
     if (!seen.insert(spec.settings.name).second)
       throw Error(spec.settings.where, "[[stages]] name = \"" + spec.settings.name +
                                            "\" is used twice; stage names must be unique");
-}
-
-void Analysis::Impl::build_stages(scene::Scene& sc) {
-  const auto ndof = static_cast<Eigen::Index>(model.dofs.total());
-  initial_prescribed = model.prescribed;
-  model.prescribed_base = Eigen::VectorXd::Zero(ndof);
-  model.load_base = Eigen::VectorXd::Zero(ndof);
-  model.load_ref = Eigen::VectorXd::Zero(ndof);
-  // The actions are created and checked against the mesh in the scene's order: the loads a
-  // stage names must have been applied by an earlier action.
-  std::set<std::string> load_names;
-  for (auto& spec : sc.stages) {
-    stage::Stage st = std::move(spec.settings);
-    if (!st.monitor.empty() && !model.mesh.node_sets.count(st.monitor))
-      throw Error(spec.monitor_at,
-                  "[[stages]] #" + std::to_string(stages.size() + 1) + " monitor = \"" + st.monitor +
-                      "\" is not a node or edge set of the mesh; known: " + key_list(model.mesh.node_sets));
-    for (const auto& a : spec.actions) {
-      auto action = a.plugin.create();
-      StageCheck check{model.mesh, a.context, a.at, load_names, a.default_load_name, false};
-      action->check(check);
-      st.reset_after = st.reset_after || check.reset_after;
-      st.actions.push_back(std::move(action));
-    }
-    stages.push_back(std::move(st));
-  }
 }
 
 } // namespace stratum

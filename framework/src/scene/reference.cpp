@@ -1,12 +1,12 @@
 // `stratum describe`: the scene format's reference, printed from the schemas the reader checks
 // the tables against (scene/schemas.cpp) and from the registry's factories.
-#include "stratum/scene_reference.hpp"
+#include "scene/reference.hpp"
 
 #include "meshers/builtin_generators.hpp"
-#include "recorders.hpp"
+#include "output/recorders.hpp"
 #include "scene/schemas.hpp"
 #include "stratum/mesh_generator.hpp"
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 #include <iomanip>
 #include <ostream>

@@ -1,7 +1,7 @@
 // The scene as read: every section of a scene file checked and typed, with the source location
 // of every value, before anything is built (internal to the framework).
 //
-//   TOML text --parse_with_includes--> toml::table --scene::read--> Scene --Analysis::Impl::build-->
+//   TOML text --parse_with_includes--> toml::table --scene::read--> Scene --SceneModel::build-->
 //   mesh, materials, elements, interfaces, constraints, stages, recorders (the run's state)
 //
 // Reading checks what the text alone decides: the keys of every table against its schema (a
@@ -13,8 +13,8 @@
 // file:line:col, kept here as SourceLocation next to each value.
 #pragma once
 
-#include "recorders.hpp"
 #include "scene/plugin_table.hpp"
+#include "scene/recorder_spec.hpp"
 #include "scene/scene_fingerprint.hpp"
 #include "stages/stage.hpp"
 #include "stratum/analysis.hpp"
@@ -120,7 +120,7 @@ struct StageSpec {
   std::vector<ActionSpec> actions;
 };
 
-/// A scene file, read and checked: what Analysis::Impl::build makes the run's state from.
+/// A scene file, read and checked: what SceneModel::build (model/) makes the model from.
 struct Scene {
   std::string path, title;
   SourceLocation at; ///< the file's top level

@@ -1,6 +1,6 @@
 #include "scene_fingerprint.hpp"
 
-#include "toml_check.hpp"
+#include "scene/toml_check.hpp"
 
 #include <cstdio>
 #include <filesystem>

@@ -1,6 +1,6 @@
 #include "scene/tables.hpp"
 
-#include "toml_check.hpp"
+#include "scene/toml_check.hpp"
 
 namespace stratum::scene {
 

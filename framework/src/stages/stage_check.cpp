@@ -1,6 +1,6 @@
 // StageCheck: the checks a stage action makes against the scene when it is read.
 #include "stratum/stage_action.hpp"
-#include "stratum/suggest.hpp"
+#include "suggest.hpp"
 
 namespace stratum {
 

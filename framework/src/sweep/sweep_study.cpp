@@ -2,10 +2,10 @@
 #include "sweep_study.hpp"
 #include "sweep/sweep.hpp"
 
+#include "scene/toml_check.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/point_driver.hpp"
 #include "sweep_toml.hpp"
-#include "toml_check.hpp"
 
 #include <toml++/toml.h>
 

@@ -2,7 +2,7 @@
 // (sweep_toml.hpp).
 #include "sweep_toml.hpp"
 
-#include "toml_check.hpp"
+#include "scene/toml_check.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -18,9 +18,9 @@
 // - the tangent against central differences of the update in every regime (1e-6 relative).
 #include "coulomb_elastoplastic/coulomb_elastoplastic.hpp"
 
+#include "scene/toml_check.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/registry.hpp"
-#include "toml_check.hpp"
 
 #include <catch2/catch.hpp>
 #include <toml++/toml.h>

@@ -9,9 +9,9 @@
 #include "duncan_chang/duncan_chang_schema.hpp"
 #include "nonlinear_elastic_no_tension/nonlinear_elastic_no_tension.hpp"
 
+#include "scene/toml_check.hpp"
 #include "stratum/elasticity.hpp"
 #include "stratum/point_driver.hpp"
-#include "toml_check.hpp"
 
 #include <catch2/catch.hpp>
 #include <toml++/toml.h>

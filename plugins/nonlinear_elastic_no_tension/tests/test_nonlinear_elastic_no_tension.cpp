@@ -12,10 +12,10 @@
 //   cut-off in 1, 2 and 3 directions with point_status 1, 2, 3, and the tangent rows of a cut
 //   direction zero while the others are D's (1e-6);
 // - a non-finite strain increment is a status (non_finite), not an exception.
+#include "scene/toml_check.hpp"
 #include "stratum/material.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/registry.hpp"
-#include "toml_check.hpp"
 
 #include <catch2/catch.hpp>
 #include <toml++/toml.h>

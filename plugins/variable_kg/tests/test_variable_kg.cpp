@@ -17,10 +17,10 @@
 //   G = residual E_i / (2(1 + nu)) failed (1e-6); finite increments against central differences of
 //   the update, loading and unloading (1e-5);
 // - point_status: 0 below failure, 1 failed (S >= 0.99), 2 tension cut-off.
+#include "scene/toml_check.hpp"
 #include "stratum/material.hpp"
 #include "stratum/plugin_loader.hpp"
 #include "stratum/registry.hpp"
-#include "toml_check.hpp"
 
 #include <catch2/catch.hpp>
 #include <toml++/toml.h>

@@ -1,9 +1,9 @@
-// The VTK data sets of one output step (framework/src/vtk_output.cpp writes them): the mesh
+// The VTK data sets of one output step (framework/src/output/vtk_output.cpp writes them): the mesh
 // with its point, cell and field data as an unstructured grid, the integration points as a
 // point cloud. Internal to the framework.
 #pragma once
 
-#include "stratum/vtk_output.hpp"
+#include "output/vtk_output.hpp"
 
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>

@@ -3,8 +3,8 @@
 #pragma once
 
 #include "stratum/params.hpp"
-#include "stratum/suggest.hpp"
 #include "stratum/units.hpp"
+#include "suggest.hpp"
 
 #include <toml++/toml.h>
 

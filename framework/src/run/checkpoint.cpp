@@ -1,4 +1,4 @@
-#include "checkpoint.hpp"
+#include "run/checkpoint.hpp"
 
 #include <boost/archive/binary_iarchive_impl.hpp>
 #include <boost/archive/binary_oarchive.hpp>

@@ -1,4 +1,5 @@
-// Recorders ([[output.history]]) and checks ([[checks]]) of a scene. Internal to the framework.
+// Recorders ([[output.history]]) and checks ([[checks]]) as a scene declares them: read and checked
+// here; resolved against the model and sampled by output/recorders.hpp. Internal to the framework.
 //
 // A recorder samples named quantities after every converged step into one CSV per run,
 // <out>/history/<name>.csv, with the columns stage, step, lambda and its quantities:
@@ -32,9 +33,7 @@
 // ends with exit status 5 when one fails (framework/cli/main.cpp).
 #pragma once
 
-#include "stratum/analysis.hpp"
 #include "stratum/error.hpp"
-#include "stratum/model.hpp"
 #include "stratum/units.hpp"
 
 #include <toml++/toml.h>
@@ -51,11 +50,8 @@ namespace stratum {
 /// in a scene's units.
 [[nodiscard]] std::string recorder_quantity_unit(const std::string& quantity);
 
-struct RecorderRow {
-  int stage = 0, step = 0;
-  double lambda = 0.0;
-  std::vector<double> values;
-};
+/// The field a node recorder's field quantity names: "p" and "p_reaction" are both field "p".
+[[nodiscard]] std::string recorder_field(const std::string& quantity);
 
 /// One [[output.history]] table as read: checked, with its quantities resolved (they depend on
 /// the kind only, not on the mesh). The names of nodes, sets and interfaces are resolved when the
@@ -74,34 +70,6 @@ struct RecorderSpec {
 [[nodiscard]] RecorderSpec read_recorder(const toml::table& t, const std::string& ctx,
                                          const Units& units = {});
 
-class Recorder {
-public:
-  /// Resolves the spec against the model: the node (within 1e-6 of the mesh's size of `at`),
-  /// the node set or the interface it names; throws a located Error when there is none.
-  Recorder(const RecorderSpec& spec, const Model& model);
-
-  [[nodiscard]] const std::string& name() const { return name_; }
-  [[nodiscard]] const std::vector<std::string>& quantities() const { return quantities_; }
-  [[nodiscard]] const std::vector<RecorderRow>& rows() const { return rows_; }
-  /// Index of a quantity, or -1.
-  [[nodiscard]] int column(const std::string& quantity) const;
-  /// The rows of the last recorded step (one, or one per point for an interface); empty if none.
-  [[nodiscard]] std::vector<const RecorderRow*> last_step() const;
-
-  /// Samples the model's converged state (reactions already updated).
-  void sample(const Model& model, int stage, int step, double lambda, int iterations);
-  /// The CSV text: stage,step,lambda,<quantities>.
-  [[nodiscard]] std::string csv() const;
-
-private:
-  std::string name_, kind_, set_;
-  std::vector<std::string> quantities_;
-  std::vector<int> nodes_; ///< node: the one node; nodes: the set
-  std::size_t domain_ = 0; ///< interface: index of the interface's domain in Model::domains
-  double at_[2] = {0.0, 0.0};
-  std::vector<RecorderRow> rows_;
-};
-
 struct Check {
   std::string recorder, quantity;
   double expected = 0.0, rtol = 0.0, atol = 0.0;
@@ -110,9 +78,5 @@ struct Check {
 
 /// Reads one [[checks]] table; the recorder and quantity must exist.
 Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<RecorderSpec>& recorders);
-
-/// Evaluates the checks on the recorders' last rows (a recorder without rows fails its checks).
-std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,
-                                         const std::vector<Recorder>& recorders);
 
 } // namespace stratum

@@ -1,6 +1,7 @@
-#include "toml_check.hpp"
+#include "scene/toml_check.hpp"
 
-#include "stratum/suggest.hpp"
+#include "stratum/enum_names.hpp"
+#include "suggest.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -66,19 +67,9 @@ double number(const toml::node& n) {
 namespace {
 
 std::string expected(const ParamSpec& s) {
-  switch (s.type) {
-  case ParamType::real:
-    return "a number";
-  case ParamType::integer:
-    return "an integer";
-  case ParamType::boolean:
-    return "true or false";
-  case ParamType::text:
-    return "a string";
-  case ParamType::real_list:
-    return "an array of numbers (or one number)";
-  }
-  return "?";
+  static constexpr std::array<const char*, 5> names{"a number", "an integer", "true or false", "a string",
+                                                    "an array of numbers (or one number)"};
+  return enum_name(s.type, names);
 }
 
 std::string show_number(double x) {

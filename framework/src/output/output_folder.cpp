@@ -1,4 +1,4 @@
-#include "output_folder.hpp"
+#include "output/output_folder.hpp"
 
 #include "stratum/error.hpp"
 

@@ -5,8 +5,8 @@
 // 64-bit block headers. The most compact of the XML encodings that any current
 // ParaView/VTK reader understands; for a 1e6-node quad mesh level 1 writes about the
 // size of the default level 5 in half the time.
-#include "stratum/vtk_output.hpp"
-#include "vtk_cells.hpp"
+#include "output/vtk_output.hpp"
+#include "output/vtk_cells.hpp"
 
 #include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>

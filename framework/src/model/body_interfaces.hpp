@@ -1,6 +1,6 @@
 // Interfaces between bodies: splitting the mesh along an edge set (duplicated nodes and
-// interface cells between the copies), and reading back the state of interface points for
-// output. Used by the scene reader ([[interfaces]]) and by mesh generators (e.g. a pile mesh).
+// interface cells between the copies). Used when a scene's [[interfaces]] are built and by mesh
+// generators (e.g. a pile mesh); their points' states for output: output/interface_output.hpp.
 //
 // Conventions (see contact_law.hpp): at an interface point the tangent t follows the edges
 // a -> b (body 1's counter-clockwise boundary) and the normal n = (t_y, -t_x) points out of
@@ -10,7 +10,6 @@
 #include "stratum/contact_law.hpp"
 #include "stratum/mesh.hpp"
 #include "stratum/model.hpp"
-#include "stratum/vtk_output.hpp"
 
 #include <string>
 #include <vector>
@@ -40,27 +39,5 @@ struct InterfaceSplit {
 /// malformed edge set or a name already used.
 InterfaceSplit split_interface(Mesh& mesh, const std::string& name, const std::vector<Edge>& edges,
                                const std::vector<int>& body2_cells, InterfaceCells kind);
-
-/// The state of one interface integration point.
-struct InterfacePoint {
-  Vec2 x;         ///< coordinates
-  double s = 0.0; ///< distance along the interface from its first point (m)
-  Vec2 traction;  ///< shear, normal (kPa; normal tension positive)
-  Vec2 jump;      ///< slip, opening (m)
-  ContactState state = ContactState::stick;
-  int cell = -1; ///< the interface cell (mesh cell index) the point belongs to
-};
-
-/// The committed states of the points of a domain with a ContactLaw, in cell order.
-[[nodiscard]] std::vector<InterfacePoint> interface_points(const Model& model, const Domain& domain);
-
-/// Writes the points as CSV (header: s,x,y,shear_traction,normal_traction,slip,opening,status).
-/// Throws Error when the file cannot be written.
-void write_interface_csv(const std::vector<InterfacePoint>& points, const std::string& path);
-
-/// Integration-point fields over every domain of the model in output order (domains, cells,
-/// points): "interface_traction" (shear, normal), "interface_jump" (slip, opening) and
-/// "interface_status" (0 stick, 1 slip, 2 open; -1 at continuum points).
-void append_interface_fields(const Model& model, std::vector<OutputArray>& ip_fields);
 
 } // namespace stratum

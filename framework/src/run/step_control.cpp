@@ -1,6 +1,6 @@
 #include "stratum/step_control.hpp"
 
-#include "stratum/files.hpp"
+#include "files.hpp"
 
 #include <algorithm>
 #include <chrono>

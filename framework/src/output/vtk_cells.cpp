@@ -1,6 +1,6 @@
 // The VTK data sets of one output step: cells and points, the field arrays, the field data
-// (framework/src/vtk_cells.hpp).
-#include "vtk_cells.hpp"
+// (framework/src/output/vtk_cells.hpp).
+#include "output/vtk_cells.hpp"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>

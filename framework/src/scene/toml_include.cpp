@@ -2,7 +2,7 @@
 //
 // Values are moved, never copied, from the included tables into the result: toml++ keeps a
 // node's source position on a move and drops it on a copy, and every later message needs it.
-#include "toml_check.hpp"
+#include "scene/toml_check.hpp"
 
 #include "stratum/error.hpp"
 

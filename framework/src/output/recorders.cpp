@@ -1,12 +1,10 @@
-#include "recorders.hpp"
+#include "output/recorders.hpp"
 
-#include "scene/schemas.hpp"
-#include "stratum/body_interfaces.hpp"
-#include "stratum/suggest.hpp"
-#include "toml_check.hpp"
+#include "model/body_interfaces.hpp"
+#include "output/interface_output.hpp"
+#include "suggest.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -14,45 +12,9 @@
 
 namespace stratum {
 
-using io::location;
-
-const std::vector<std::string>& recorder_quantities(const std::string& kind) {
-  static const std::vector<std::string> node{"ux", "uy", "rx", "ry"};
-  static const std::vector<std::string> point{"x",   "y",   "sxx", "syy", "szz",   "sxy",
-                                              "exx", "eyy", "ezz", "gxy", "status"};
-  static const std::vector<std::string> global{"lambda", "iterations", "time"};
-  static const std::vector<std::string> iface{"s",    "x",       "y",     "shear_traction", "normal_traction",
-                                              "slip", "opening", "status"};
-  if (kind == "point") return point;
-  if (kind == "global") return global;
-  if (kind == "interface") return iface;
-  return node; // node, nodes
-}
-
 namespace {
 
 const std::vector<std::string>& allowed(const std::string& kind) { return recorder_quantities(kind); }
-
-/// A name a field may have: a letter, then letters, digits and underscores.
-bool is_field_name(const std::string& s) {
-  if (s.empty() || !std::isalpha(static_cast<unsigned char>(s[0]))) return false;
-  return std::all_of(s.begin(), s.end(),
-                     [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_'; });
-}
-
-/// The field of a node recorder's field quantity: "p" and "p_reaction" are both field "p".
-std::string field_of(const std::string& q) {
-  const std::string suffix = "_reaction";
-  return q.size() > suffix.size() && q.compare(q.size() - suffix.size(), suffix.size(), suffix) == 0
-             ? q.substr(0, q.size() - suffix.size())
-             : q;
-}
-
-std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
 
 /// The interface points in order along the interface, with s the arc length of the polyline
 /// through them from the end nearest the first point in cell order (the set's first edge, or
@@ -93,67 +55,6 @@ std::vector<InterfacePoint> ordered_along(std::vector<InterfacePoint> pts) {
 
 } // namespace
 
-RecorderSpec read_recorder(const toml::table& t, const std::string& ctx, const Units& units) {
-  const scene::TableKeys keys = scene::recorder_keys();
-  const Params p = io::check_table(t, keys.schema, ctx, keys.other_names());
-  RecorderSpec r;
-  r.context = ctx;
-  r.where = location(t);
-  r.name = p.text("name");
-  r.kind = p.text("kind");
-  r.set = p.text("set");
-  r.set_at = p.where("set");
-  r.at_at = p.where("at");
-  if (r.name.empty() || r.name.find_first_of("/\\ ") != std::string::npos || r.name[0] == '.')
-    throw Error(p.where("name"), ctx + " name = \"" + r.name +
-                                     "\" must be a plain file name (no '/', '\\', spaces or leading '.')");
-  const auto& at = p.real_list("at");
-  const bool needs_at = r.kind == "node" || r.kind == "point";
-  if (needs_at && at.size() != 2)
-    throw Error(at.empty() ? location(t) : p.where("at"),
-                ctx + " kind = \"" + r.kind + "\" needs at = [x, y] (" + units.length() + ")");
-  if (!needs_at && !at.empty())
-    throw Error(p.where("at"), ctx + " at acts only for kind = \"node\" or \"point\"");
-  if (r.kind == "nodes" && r.set.empty())
-    throw Error(location(t), ctx + " kind = \"nodes\" needs set = \"<node or edge set>\"");
-  if (r.kind == "interface" && r.set.empty())
-    throw Error(location(t), ctx + " kind = \"interface\" needs set = \"<interface name>\"");
-  if (r.kind != "nodes" && r.kind != "interface" && !r.set.empty())
-    throw Error(p.where("set"), ctx + " set acts only for kind = \"nodes\" or \"interface\"");
-  if (needs_at) r.at[0] = at[0], r.at[1] = at[1];
-  // quantities: a list of names; by default all of the kind's.
-  const auto& names = allowed(r.kind);
-  if (const toml::node* q = t.get("quantities")) {
-    const auto* arr = q->as_array();
-    if (!arr || arr->empty())
-      throw Error(location(*q), ctx + " quantities must be a non-empty list of names, e.g. [\"" + names[0] +
-                                    "\"]; allowed: " + joined(names));
-    const bool node_kind = r.kind == "node" || r.kind == "nodes";
-    for (const auto& e : *arr) {
-      const auto v = e.value<std::string>();
-      // Node recorders also record the scene's other fields by name ("p", and its reaction
-      // "p_reaction"); which fields there are is known once the domains are built (Recorder).
-      if (v && node_kind && std::find(names.begin(), names.end(), *v) == names.end() && is_field_name(*v)) {
-        r.quantities.push_back(*v);
-        r.quantity_at.push_back(location(e));
-        continue;
-      }
-      if (!v || std::find(names.begin(), names.end(), *v) == names.end())
-        throw Error(location(e), ctx + " quantities contains " + io::show(e) + ", which kind = \"" + r.kind +
-                                     "\" does not record; allowed: " + joined(names));
-      r.quantities.push_back(*v);
-    }
-  } else {
-    r.quantities = names;
-  }
-  // An interface's rows are points: where each is along the interface comes first, always.
-  if (r.kind == "interface" && r.quantities.front() != "s") {
-    r.quantities.erase(std::remove(r.quantities.begin(), r.quantities.end(), "s"), r.quantities.end());
-    r.quantities.insert(r.quantities.begin(), "s");
-  }
-  return r;
-}
-
 Recorder::Recorder(const RecorderSpec& spec, const Model& model)
     : name_(spec.name), kind_(spec.kind), set_(spec.set), quantities_(spec.quantities) {
   const std::string& ctx = spec.context;
@@ -175,9 +76,10 @@ Recorder::Recorder(const RecorderSpec& spec, const Model& model)
       if (dm.name == set_) domain_ = d, found = true;
     }
     if (!found)
-      throw Error(spec.set_at, ctx + " set = \"" + set_ + "\" is not an interface of the scene; " +
-                                   (known.empty() ? std::string("the scene has no [[interfaces]]")
-                                                  : "known: " + joined(known) + did_you_mean(set_, known)));
+      throw Error(spec.set_at,
+                  ctx + " set = \"" + set_ + "\" is not an interface of the scene; " +
+                      (known.empty() ? std::string("the scene has no [[interfaces]]")
+                                     : "known: " + name_list(known) + did_you_mean(set_, known)));
   }
   if (kind_ == "node") {
     // The node must be at `at`: a recorder that silently moved to another node would record
@@ -211,10 +113,11 @@ Recorder::Recorder(const RecorderSpec& spec, const Model& model)
     if (std::find(names.begin(), names.end(), q) != names.end()) continue;
     const SourceLocation at = extra < spec.quantity_at.size() ? spec.quantity_at[extra] : spec.where;
     ++extra;
-    const int f = model.dofs.field(field_of(q));
+    const int f = model.dofs.field(recorder_field(q));
     if (f < 0 || f < model.dim())
       throw Error(at, ctx + " quantities: \"" + q + "\" is not a quantity of kind = \"" + kind_ + "\" (" +
-                          joined(names) + ") nor a field of the scene's elements or its reaction (fields: " +
+                          name_list(names) +
+                          ") nor a field of the scene's elements or its reaction (fields: " +
                           model.dofs.field_list() + "; e.g. \"p\", \"p_reaction\")");
   }
 }
@@ -296,8 +199,8 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
     }
     // A field quantity (node recorders): the mean value over the nodes that carry the field, or
     // the sum of its reactions.
-    const int f = m.dofs.field(field_of(q));
-    const bool want_reaction = q != field_of(q);
+    const int f = m.dofs.field(recorder_field(q));
+    const bool want_reaction = q != recorder_field(q);
     double sum = 0.0;
     int count = 0;
     for (int n : nodes_)
@@ -323,36 +226,6 @@ std::string Recorder::csv() const {
     o << '\n';
   }
   return o.str();
-}
-
-std::string recorder_quantity_unit(const std::string& q) {
-  if (q == "ux" || q == "uy" || q == "x" || q == "y" || q == "s" || q == "slip" || q == "opening") return "m";
-  if (q == "rx" || q == "ry") return "kN";
-  if (q == "sxx" || q == "syy" || q == "szz" || q == "sxy" || q == "shear_traction" || q == "normal_traction")
-    return "kPa";
-  return "-";
-}
-
-Check parse_check(const toml::table& t, const std::string& ctx, const std::vector<RecorderSpec>& recorders) {
-  const Params p = io::check_table(t, scene::check_schema(), ctx);
-  Check c{p.text("recorder"), p.text("quantity"), p.real("expected"),
-          p.real("rtol"),     p.real("atol"),     location(t)};
-  if (c.rtol == 0.0 && c.atol == 0.0)
-    throw Error(location(t), ctx + " give rtol or atol (or both): a check of floating-point results needs a "
-                                   "tolerance");
-  const auto it = std::find_if(recorders.begin(), recorders.end(),
-                               [&](const RecorderSpec& r) { return r.name == c.recorder; });
-  if (it == recorders.end()) {
-    std::string known;
-    for (const auto& r : recorders) known += (known.empty() ? "" : ", ") + r.name;
-    throw Error(p.where("recorder"), ctx + " recorder = \"" + c.recorder +
-                                         "\" is not an [[output.history]] name" +
-                                         (known.empty() ? "; the scene has none" : "; known: " + known));
-  }
-  if (std::find(it->quantities.begin(), it->quantities.end(), c.quantity) == it->quantities.end())
-    throw Error(p.where("quantity"), ctx + " quantity = \"" + c.quantity + "\" is not recorded by \"" +
-                                         c.recorder + "\"; it records: " + joined(it->quantities));
-  return c;
 }
 
 std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,

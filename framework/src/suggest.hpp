@@ -45,4 +45,11 @@ template <class Map> std::string key_list(const Map& m, std::string_view name = 
   return (s.empty() ? "(none)" : s) + (name.empty() ? "" : did_you_mean(name, m));
 }
 
+/// Names, comma-separated, for "allowed: ..." in messages.
+[[nodiscard]] inline std::string name_list(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
 } // namespace stratum

@@ -1,4 +1,4 @@
-// Reading [contact_laws.<name>] and [[interfaces]] of a scene (internal to the framework).
+// The plugin objects of a scene's contact laws and interfaces, as built (internal to the framework).
 #pragma once
 
 #include "stratum/contact_law.hpp"

@@ -1,0 +1,53 @@
+// Recorders and checks at run time: a recorder resolved against the model samples its quantities
+// after every accepted step; the checks are evaluated on the last rows at the end of the run.
+// What each kind records: scene/recorder_spec.hpp. Internal to the framework.
+#pragma once
+
+#include "scene/recorder_spec.hpp"
+#include "stratum/analysis.hpp"
+#include "stratum/model.hpp"
+
+#include <string>
+#include <vector>
+
+namespace stratum {
+
+struct RecorderRow {
+  int stage = 0, step = 0;
+  double lambda = 0.0;
+  std::vector<double> values;
+};
+
+class Recorder {
+public:
+  /// Resolves the spec against the model: the node (within 1e-6 of the mesh's size of `at`),
+  /// the node set or the interface it names; throws a located Error when there is none.
+  Recorder(const RecorderSpec& spec, const Model& model);
+
+  [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] const std::vector<std::string>& quantities() const { return quantities_; }
+  [[nodiscard]] const std::vector<RecorderRow>& rows() const { return rows_; }
+  /// Index of a quantity, or -1.
+  [[nodiscard]] int column(const std::string& quantity) const;
+  /// The rows of the last recorded step (one, or one per point for an interface); empty if none.
+  [[nodiscard]] std::vector<const RecorderRow*> last_step() const;
+
+  /// Samples the model's converged state (reactions already updated).
+  void sample(const Model& model, int stage, int step, double lambda, int iterations);
+  /// The CSV text: stage,step,lambda,<quantities>.
+  [[nodiscard]] std::string csv() const;
+
+private:
+  std::string name_, kind_, set_;
+  std::vector<std::string> quantities_;
+  std::vector<int> nodes_; ///< node: the one node; nodes: the set
+  std::size_t domain_ = 0; ///< interface: index of the interface's domain in Model::domains
+  double at_[2] = {0.0, 0.0};
+  std::vector<RecorderRow> rows_;
+};
+
+/// Evaluates the checks on the recorders' last rows (a recorder without rows fails its checks).
+std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,
+                                         const std::vector<Recorder>& recorders);
+
+} // namespace stratum
