@@ -5,6 +5,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -108,6 +109,12 @@ TEST_CASE("cli: --version and plugins listing", "[cli]") {
   CHECK(d.code == 0);
   CHECK(d.out.find("library: ") != std::string::npos);
   CHECK(d.out.find("volumetric") != std::string::npos);
+  // The unknowns an element's nodes carry, by field name and unit, per cell type it takes.
+  CHECK(d.out.find("\n    quadrilateral: ux [m; reaction kN], uy [m; reaction kN]\n") != std::string::npos);
+  CHECK(d.out.find("hexahedron") == std::string::npos);
+  const auto hex = stratum("plugins --describe hex8");
+  CHECK(hex.out.find("\n    hexahedron: ux [m; reaction kN], uy [m; reaction kN], uz [m; reaction kN]\n") !=
+        std::string::npos);
   // A default the plugin computes is described as such (997ba04 printed F_CUT "default 1").
   auto cap = stratum("plugins --describe cap_sandler");
   CHECK(std::regex_search(
@@ -271,6 +278,17 @@ TEST_CASE("cli: [output] pile_head is no longer a key: the pile head is the load
   expect_one_line_error(r, path + ":39:1 ",
                         "[output] unknown key 'pile_head'; allowed: history, vtk, integration_points, every, "
                         "pile_cells, tables_every");
+}
+
+TEST_CASE("cli: a key that the scene sets but that has no effect is refused, located", "[cli]") {
+  // `file` belongs to a Gmsh mesh; in a scene of generated blocks nothing reads it (the schema of
+  // [mesh] declares it, so the key check alone accepted it and the run ignored it).
+  const std::string text = edit("nodes_per_cell = 8\n", "nodes_per_cell = 8\nfile = \"left_over.msh\"\n");
+  const auto path = write_scene("no_effect.toml", text);
+  const auto line = std::to_string(1 + std::count(text.begin(), text.begin() + text.find("file = "), '\n'));
+  expect_one_line_error(stratum("check " + path), path + ":" + line + ":8 ",
+                        "[mesh] file has no effect in this scene (the reader of the table does not use it "
+                        "here); remove it");
 }
 
 TEST_CASE("cli: wrong type", "[cli]") {

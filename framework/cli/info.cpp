@@ -60,6 +60,37 @@ constexpr PluginKind kinds[] = {PluginKind::element,    PluginKind::material,   
                                 PluginKind::solver,     PluginKind::stage_action, PluginKind::mesh_generator,
                                 PluginKind::calibration};
 
+/// The unknowns an element's nodes carry, per cell type it accepts (Element::node_fields), for
+/// an element that its parameters' defaults create.
+void describe_fields(const Registry& reg, const std::string& name, const Units& units) {
+  const Schema& s = reg.schema(PluginKind::element, name);
+  Params p;
+  for (const auto& spec : s.specs())
+    if (spec.fallback) p.set(spec.name, *spec.fallback);
+  std::unique_ptr<Element> element;
+  try {
+    element = reg.element(name).create(p);
+  } catch (const Error&) {
+  }
+  if (!element) return;
+  std::cout << "  unknowns of its nodes (constraints, recorders and VTK arrays name them):\n";
+  for (int t = 0; t <= static_cast<int>(CellType::wedge); ++t) {
+    const auto type = static_cast<CellType>(t);
+    if (!element->accepts(type)) continue;
+    const NodeFields nf = element->node_fields(type, corner_slots(type));
+    std::cout << "    " << to_string(type) << ":";
+    for (std::size_t f = 0; f < nf.fields.size(); ++f) {
+      const Field& field = nf.fields[f];
+      bool everywhere = true;
+      for (std::size_t i = 0; i < nf.carried.size(); ++i)
+        everywhere = everywhere && (nf.carried[i] >> f & 1u);
+      std::cout << (f ? ", " : " ") << field.name << " [" << units.label(field.unit) << "; reaction "
+                << units.label(field.reaction_unit) << "]" << (everywhere ? "" : " (on some nodes)");
+    }
+    std::cout << "\n";
+  }
+}
+
 void describe(const Registry& reg, PluginKind kind, const std::string& name, bool full,
               const Units& units = {}) {
   std::string summary, library;
@@ -70,6 +101,7 @@ void describe(const Registry& reg, PluginKind kind, const std::string& name, boo
     std::cout << "  (in [units] " << units.describe()
               << ": units, defaults and bounds as the scene reads them)\n";
   write_schema(std::cout, s, units);
+  if (full && kind == PluginKind::element) describe_fields(reg, name, units);
 }
 
 } // namespace

@@ -14,11 +14,7 @@
 
 #include "sweep/sweep.hpp"
 
-#ifdef STRATUM_HAVE_MPI
-#define OMPI_SKIP_MPICXX 1 // the C API only
-#define MPICH_SKIP_MPICXX 1
-#include <mpi.h>
-#endif
+#include "mpi.hpp"
 
 #include <cstdlib>
 #include <filesystem>

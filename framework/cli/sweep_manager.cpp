@@ -5,11 +5,7 @@
 
 #include "files.hpp"
 
-#ifdef STRATUM_HAVE_MPI
-#define OMPI_SKIP_MPICXX 1 // the C API only
-#define MPICH_SKIP_MPICXX 1
-#include <mpi.h>
-#endif
+#include "mpi.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>

@@ -1,4 +1,4 @@
-// Atomic writing of result files (files.hpp).
+// Reading input files whole; atomic writing of result files (files.hpp).
 #include "files.hpp"
 
 #include "stratum/error.hpp"
@@ -9,6 +9,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -48,6 +50,14 @@ void write_file_atomically(const std::string& path, const std::string& text) {
     fs::remove(tmp, ignored);
     throw Error("cannot write '" + path + "': " + ec.message());
   }
+}
+
+std::string read_text_file(const std::string& path, const SourceLocation& where, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in || fs::is_directory(path)) throw Error(where, "cannot open " + what + " '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 } // namespace stratum

@@ -1,5 +1,7 @@
 #include "stratum/mesh.hpp"
 
+#include "suggest.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,12 +11,6 @@
 namespace stratum {
 
 namespace {
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
 
 std::string cell_name(std::size_t c) { return "mesh cell " + std::to_string(c) + " (0-based)"; }
 
@@ -78,7 +74,7 @@ void Mesh::check() const {
       const double cross = next.x() * prev.y() - next.y() * prev.x();
       if (!(cross > 0.0))
         throw Error(cell_name(c) + ": corner " + std::to_string(s) + " (node " +
-                    std::to_string(cell.nodes[s]) + " at " + num(p.x()) + ", " + num(p.y()) +
+                    std::to_string(cell.nodes[s]) + " at " + number_text(p.x()) + ", " + number_text(p.y()) +
                     ") has a non-positive area; the corners must be counter-clockwise and the cell convex");
     }
   }

@@ -157,12 +157,7 @@ PointDriver::~PointDriver() = default;
 const std::vector<PointPath>& PointDriver::paths() const { return impl_->paths; }
 
 std::unique_ptr<PointDriver> PointDriver::from_file(const std::string& path, std::vector<std::string> dirs) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in || fs::is_directory(path))
-    throw Error(SourceLocation{path, 0, 0}, "cannot open point file '" + path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return from_string(ss.str(), path, std::move(dirs));
+  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "point file"), path, std::move(dirs));
 }
 
 std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, const std::string& path,
@@ -205,6 +200,7 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
     throw Error(ip.where("stress"), "[initial] stress must have 6 numbers (xx, yy, zz, xy, yz, zx)");
   for (int i = 0; i < 6; ++i) impl->initial[i] = s[static_cast<std::size_t>(i)];
   if (it->get("p")) impl->initial << -ip.real("p"), -ip.real("p"), -ip.real("p"), 0, 0, 0;
+  io::require_read(ip, init, "[initial]");
 
   const auto* pn = root.get("paths");
   const auto* pa = pn ? pn->as_array() : nullptr;
@@ -227,7 +223,8 @@ std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, c
                                type == "mixed" ? std::vector<std::string_view>{"control"}
                                                : std::vector<std::string_view>{},
                                impl->units);
-    impl->paths.push_back(make_path(type, p, *t, ctx));
+    impl->paths.push_back(make_path(p.text("type"), p, *t, ctx));
+    io::require_read(p, path_schema(type), ctx);
     if (!most || impl->paths.back().steps > most_steps) {
       most_steps = impl->paths.back().steps;
       most = t->get("steps") ? t->get("steps") : t;

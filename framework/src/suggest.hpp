@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -43,6 +44,13 @@ template <class Map> std::string key_list(const Map& m, std::string_view name = 
   std::string s;
   for (const auto& [k, v] : m) s += (s.empty() ? "" : ", ") + k;
   return (s.empty() ? "(none)" : s) + (name.empty() ? "" : did_you_mean(name, m));
+}
+
+/// A number for a message: up to ten significant digits, no trailing zeros ("%.10g").
+[[nodiscard]] inline std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
 }
 
 /// Names, comma-separated, for "allowed: ..." in messages.

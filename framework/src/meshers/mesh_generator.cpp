@@ -1,7 +1,9 @@
 // The structured block generator: graded rectangles of quad4 or quad8 cells, merged
 // where their nodes coincide.
 #include "../memory.hpp"
+
 #include "stratum/mesh_io.hpp"
+#include "suggest.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,12 +16,6 @@
 namespace stratum {
 
 namespace {
-
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
 
 std::string block_label(const Block& b) { return "mesh block '" + b.name + "'"; }
 
@@ -37,12 +33,14 @@ void validate(const std::vector<Block>& blocks, int nodes_per_cell) {
     const std::string what = block_label(b);
     for (double v : {b.x0, b.x1, b.y0, b.y1, b.grade_x, b.grade_y})
       if (!std::isfinite(v)) throw Error(what + ": coordinates and gradings must be finite numbers");
-    if (!(b.x1 > b.x0)) throw Error(what + ": x1 = " + num(b.x1) + " must be > x0 = " + num(b.x0));
-    if (!(b.y1 > b.y0)) throw Error(what + ": y1 = " + num(b.y1) + " must be > y0 = " + num(b.y0));
+    if (!(b.x1 > b.x0))
+      throw Error(what + ": x1 = " + number_text(b.x1) + " must be > x0 = " + number_text(b.x0));
+    if (!(b.y1 > b.y0))
+      throw Error(what + ": y1 = " + number_text(b.y1) + " must be > y0 = " + number_text(b.y0));
     if (b.nx < 1) throw Error(what + ": nx = " + std::to_string(b.nx) + " must be >= 1");
     if (b.ny < 1) throw Error(what + ": ny = " + std::to_string(b.ny) + " must be >= 1");
-    if (!(b.grade_x > 0)) throw Error(what + ": grade_x = " + num(b.grade_x) + " must be > 0");
-    if (!(b.grade_y > 0)) throw Error(what + ": grade_y = " + num(b.grade_y) + " must be > 0");
+    if (!(b.grade_x > 0)) throw Error(what + ": grade_x = " + number_text(b.grade_x) + " must be > 0");
+    if (!(b.grade_y > 0)) throw Error(what + ": grade_y = " + number_text(b.grade_y) + " must be > 0");
     const int s = nodes_per_cell == 8 ? 2 : 1;
     const std::int64_t grid = (std::int64_t{s} * b.nx + 1) * (std::int64_t{s} * b.ny + 1);
     if (grid > std::numeric_limits<int>::max() / 2)
@@ -204,8 +202,8 @@ void block_nodes(Mesh& mesh, const Block& b, const BlockGrid& g, double tol, Nod
   for (const std::vector<double>* c : {&xc, &yc})
     for (std::size_t i = 0; i + 1 < c->size(); ++i)
       if (!((*c)[i + 1] - (*c)[i] > 2 * tol * s))
-        throw Error(block_label(b) + ": the grading makes a cell of size " + num((*c)[i + 1] - (*c)[i]) +
-                    ", too small to tell its nodes apart");
+        throw Error(block_label(b) + ": the grading makes a cell of size " +
+                    number_text((*c)[i + 1] - (*c)[i]) + ", too small to tell its nodes apart");
   const std::vector<double> xf = fine_grid(xc, s);
   const std::vector<double> yf = fine_grid(yc, s);
 
@@ -292,8 +290,8 @@ void outer_sides(Mesh& mesh, const std::vector<Block>& blocks, const std::vector
       const Block& q = blocks[o];
       if (o != se.block && m.x() >= q.x0 - tol && m.x() <= q.x1 + tol && m.y() >= q.y0 - tol &&
           m.y() <= q.y1 + tol)
-        throw Error(block_label(b) + " and " + block_label(q) + " touch near (" + num(m.x()) + ", " +
-                    num(m.y()) +
+        throw Error(block_label(b) + " and " + block_label(q) + " touch near (" + number_text(m.x()) + ", " +
+                    number_text(m.y()) +
                     ") but their nodes do not match there; give the shared sides the same cells and grading");
     }
     const bool on_bbox = (se.side == bottom && std::abs(b.y0 - box.ymin) <= tol) ||

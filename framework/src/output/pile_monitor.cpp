@@ -1,5 +1,4 @@
 #include "output/pile_monitor.hpp"
-#include "model/body_interfaces.hpp"
 #include "output/interface_output.hpp"
 #include "output/pile_curves.hpp"
 #include "stratum/load.hpp"

@@ -1,6 +1,5 @@
 #include "output/recorders.hpp"
 
-#include "model/body_interfaces.hpp"
 #include "output/interface_output.hpp"
 #include "suggest.hpp"
 

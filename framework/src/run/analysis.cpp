@@ -1,5 +1,6 @@
 // Analysis: from a scene file to the scene as read (scene/), the model built (model/) and a run
 // (run/run.cpp).
+#include "files.hpp"
 #include "meshers/builtin_generators.hpp"
 #include "run/analysis_impl.hpp"
 #include "scene/scene.hpp"
@@ -40,12 +41,8 @@ std::unique_ptr<Analysis> Analysis::from_string(const std::string& text, const s
 }
 
 std::unique_ptr<Analysis> Analysis::from_file(const std::string& path, RunOptions options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in || fs::is_directory(path))
-    throw Error(SourceLocation{path, 0, 0}, "cannot open scene file '" + path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return from_string(ss.str(), path, std::move(options));
+  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "scene file"), path,
+                     std::move(options));
 }
 
 const Model& Analysis::model() const { return impl_->sm.model; }

@@ -1,6 +1,5 @@
 // [materials], [[domains]] and [[constraints]]: read into the Scene (scene.hpp), then built
 // against the mesh.
-#include "model/domain_points.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/scene.hpp"
 #include "scene/schemas.hpp"
@@ -75,9 +74,10 @@ void scene::read_constraints(const toml::table& root, Scene& sc) {
     const std::string ctx = "[[constraints]] at line " + std::to_string(location(*t).line);
     ConstraintSpec c;
     c.at = location(*t);
-    c.nodes = require_string(*t, "nodes", ctx);
-    c.nodes_at = location(*t->get("nodes"));
+    (void)require_string(*t, "nodes", ctx); // "needs nodes", located, before the key check
     const auto p = check_table(*t, scene::constraint_schema(), "[[constraints]]");
+    c.nodes = p.text("nodes");
+    c.nodes_at = p.where("nodes");
     for (int k = 0; k < 2; ++k) {
       const char* key = k == 0 ? "ux" : "uy";
       if (!t->get(key)) continue;
@@ -96,6 +96,7 @@ void scene::read_constraints(const toml::table& root, Scene& sc) {
     if (!c.value[0] && !c.value[1] && c.field.empty())
       throw Error(c.at, "[[constraints]] nodes = \"" + c.nodes +
                             "\" constrains nothing; give ux and/or uy, or field and value");
+    io::require_read(p, scene::constraint_schema(), "[[constraints]]");
     sc.constraints.push_back(std::move(c));
   }
 }

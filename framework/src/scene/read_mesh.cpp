@@ -65,6 +65,7 @@ scene::MeshSpec scene::read_mesh(const toml::table& root, const std::string& pat
       b.y0 = bp.real_list("y")[0], b.y1 = bp.real_list("y")[1];
       b.nx = static_cast<int>(bp.integer("nx")), b.ny = static_cast<int>(bp.integer("ny"));
       b.grade_x = bp.real("grade_x"), b.grade_y = bp.real("grade_y");
+      io::require_read(bp, block_schema(), ctx);
       spec.blocks.push_back(b);
       spec.block_at.push_back(location(*list[i]));
     }
@@ -104,6 +105,7 @@ scene::MeshSpec scene::read_mesh(const toml::table& root, const std::string& pat
     if (f.is_relative()) f = fs::path(path).parent_path() / f;
     spec.file_path = f.string();
   }
+  io::require_read(mp, keys.schema, "[mesh]");
   return spec;
 }
 

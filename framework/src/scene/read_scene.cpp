@@ -1,6 +1,7 @@
 // Reading a scene (scene.hpp): the top level, the plugin path, [analysis], [convergence], [output]
 // and the solver here; the other sections in read_mesh.cpp, read_domains.cpp, read_interfaces.cpp
 // and read_stages.cpp. Building the model from the Scene: model/scene_model.hpp.
+#include "files.hpp"
 #include "scene/plugin_table.hpp"
 #include "scene/scene.hpp"
 #include "scene/schemas.hpp"
@@ -50,16 +51,13 @@ Units scene::read_units(const toml::table& root) {
                                      "); allowed: " + u.stress() + (spelt == u.stress() ? "" : ", " + spelt) +
                                      " (or leave stress out)");
   }
+  io::require_read(p, units_schema(), "[units]");
   return u;
 }
 
 Units scene_units(const std::string& scene_path) {
-  std::ifstream in(scene_path, std::ios::binary);
-  if (!in || fs::is_directory(scene_path))
-    throw Error(SourceLocation{scene_path, 0, 0}, "cannot open scene file '" + scene_path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return read_units(io::parse_with_includes(ss.str(), scene_path));
+  const std::string text = read_text_file(scene_path, SourceLocation{scene_path, 0, 0}, "scene file");
+  return read_units(io::parse_with_includes(text, scene_path));
 }
 
 namespace {
@@ -172,6 +170,8 @@ scene::Scene scene::read(const toml::table& root, const std::string& path, Plugi
   s.tables_every = op.real("tables_every");
   s.pile_cells = op.text("pile_cells");
   s.pile_cells_at = op.where("pile_cells");
+  io::require_read(cp, convergence_schema(), "[convergence]");
+  io::require_read(op, output.schema, "[output]");
 
   // ---- solver plugin: its table checked now, the solver created per stage (run_stage)
   {
@@ -180,6 +180,7 @@ scene::Scene scene::read(const toml::table& root, const std::string& path, Plugi
         catalog, registry, name, ap.where("solver").known() ? ap.where("solver") : location(root),
         "[analysis] solver = \"" + name + "\"", optional_table(root, "solver"), "[solver]", {}, units);
   }
+  io::require_read(ap, analysis_schema(), "[analysis]");
 
   sc.mesh = read_mesh(root, path, catalog, registry, units);
   read_domains(root, catalog, registry, sc);

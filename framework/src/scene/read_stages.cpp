@@ -90,6 +90,7 @@ scene::StageSpec read_stage(const toml::table& t, const std::string& ctx, const 
     const std::string type = require_string(*actions[i], "type", actx);
     spec.actions.push_back(read_action(*actions[i], actx, type + "@" + st.name, catalog, registry, units));
   }
+  io::require_read(p, keys.schema, ctx);
   return spec;
 }
 

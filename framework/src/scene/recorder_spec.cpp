@@ -102,6 +102,7 @@ RecorderSpec read_recorder(const toml::table& t, const std::string& ctx, const U
     r.quantities.erase(std::remove(r.quantities.begin(), r.quantities.end(), "s"), r.quantities.end());
     r.quantities.insert(r.quantities.begin(), "s");
   }
+  io::require_read(p, keys.schema, ctx);
   return r;
 }
 
@@ -132,6 +133,7 @@ Check parse_check(const toml::table& t, const std::string& ctx, const std::vecto
   if (std::find(it->quantities.begin(), it->quantities.end(), c.quantity) == it->quantities.end())
     throw Error(p.where("quantity"), ctx + " quantity = \"" + c.quantity + "\" is not recorded by \"" +
                                          c.recorder + "\"; it records: " + name_list(it->quantities));
+  io::require_read(p, scene::check_schema(), ctx);
   return c;
 }
 

@@ -3,7 +3,7 @@
 #include "scene/reference.hpp"
 
 #include "meshers/builtin_generators.hpp"
-#include "output/recorders.hpp"
+#include "scene/recorder_spec.hpp"
 #include "scene/schemas.hpp"
 #include "stratum/mesh_generator.hpp"
 #include "suggest.hpp"

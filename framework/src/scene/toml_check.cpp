@@ -41,22 +41,12 @@ std::string show(const toml::node& n) {
 }
 
 const char* type_name(const toml::node& n) {
-  switch (n.type()) {
-  case toml::node_type::string:
-    return "a string";
-  case toml::node_type::integer:
-    return "an integer";
-  case toml::node_type::floating_point:
-    return "a number";
-  case toml::node_type::boolean:
-    return "a boolean";
-  case toml::node_type::array:
-    return "an array";
-  case toml::node_type::table:
-    return "a table";
-  default:
-    return "a date or time";
-  }
+  // In the order of toml::node_type: none, table, array, string, integer, floating_point,
+  // boolean, date, time, date_time.
+  static constexpr std::array<const char*, 10> names{
+      "a date or time", "a table",   "an array",       "a string",       "an integer",
+      "a number",       "a boolean", "a date or time", "a date or time", "a date or time"};
+  return enum_name(n.type(), names, "a date or time");
 }
 
 double number(const toml::node& n) {
@@ -233,6 +223,14 @@ std::string require_string(const toml::table& table, std::string_view key, const
     throw Error(location(*v), context + " " + std::string(key) + " = " + show(*v) +
                                   " has the wrong type: expected a string, got " + type_name(*v));
   return v->as_string()->get();
+}
+
+void require_read(const Params& p, const Schema& schema, const std::string& context) {
+  for (const auto& spec : schema.specs())
+    if (p.where(spec.name).known() && !p.read_names().count(spec.name))
+      throw Error(p.where(spec.name), context + " " + spec.name +
+                                          " has no effect in this scene (the reader of the table does not "
+                                          "use it here); remove it");
 }
 
 } // namespace stratum::io

@@ -45,6 +45,11 @@ namespace stratum::io {
 [[nodiscard]] Params check_table(const toml::table& table, const Schema& schema, const std::string& context,
                                  const std::vector<std::string_view>& extra = {}, const Units& units = {});
 
+/// Throws a located Error for the first key of `schema` that the scene set in the table of `p`
+/// but that the reader did not read (Params::read_names): such a key would be accepted by the
+/// schema and then ignored. Call it where the reader is done with `p`.
+void require_read(const Params& p, const Schema& schema, const std::string& context);
+
 /// A required string key (for keys outside any schema, like `model = "..."`).
 [[nodiscard]] std::string require_string(const toml::table& table, std::string_view key,
                                          const std::string& context);

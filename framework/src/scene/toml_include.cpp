@@ -2,6 +2,7 @@
 //
 // Values are moved, never copied, from the included tables into the result: toml++ keeps a
 // node's source position on a move and drops it on a copy, and every later message needs it.
+#include "files.hpp"
 #include "scene/toml_check.hpp"
 
 #include "stratum/error.hpp"
@@ -80,13 +81,9 @@ toml::table resolve(toml::table root, const std::string& path, std::vector<std::
     const std::string key = fs::weakly_canonical(file).string();
     for (const auto& c : chain)
       if (c == key) throw Error(location(*f), "include '" + name + "' includes itself (a cycle of includes)");
-    std::ifstream in(file, std::ios::binary);
-    if (!in || fs::is_directory(file))
-      throw Error(location(*f), "cannot open the included file '" + file.string() + "'");
-    std::stringstream ss;
-    ss << in.rdbuf();
+    const std::string text = read_text_file(file.string(), location(*f), "the included file");
     chain.push_back(key);
-    toml::table child = resolve(parse_text(ss.str(), file.string()), file.string(), chain);
+    toml::table child = resolve(parse_text(text, file.string()), file.string(), chain);
     chain.pop_back();
     merge(merged, std::move(child), false, "");
   }

@@ -1,5 +1,6 @@
 // Parameter studies: reading the study file and its designs (framework/src/sweep/sweep.hpp).
 #include "sweep_study.hpp"
+#include "files.hpp"
 #include "sweep/sweep.hpp"
 
 #include "scene/toml_check.hpp"
@@ -45,14 +46,6 @@ std::uint64_t fnv1a(std::uint64_t h, const std::string& s) {
   h ^= 0xff; // a separator, so that ("ab", "c") and ("a", "bc") differ
   h *= 0x100000001b3ULL;
   return h;
-}
-
-std::string slurp(const std::string& path, const SourceLocation& where, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in || fs::is_directory(path)) throw Error(where, "cannot open " + what + " '" + path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 const std::vector<std::string> scene_columns = {"load", "settlement"};
@@ -118,7 +111,7 @@ StudySettings read_study_table(const toml::table& root, const std::string& path)
   const fs::path dir = fs::path(path).parent_path();
   r.base_path =
       (fs::path(base_rel).is_absolute() ? fs::path(base_rel) : dir / base_rel).lexically_normal().string();
-  r.base_text = slurp(r.base_path, location(*s->get(r.key)), r.key + " file");
+  r.base_text = read_text_file(r.base_path, location(*s->get(r.key)), r.key + " file");
   r.design = text(*s, "design", sc, {"one_at_a_time", "grid", "latin_hypercube", "monte_carlo"});
   r.kind = r.design == "one_at_a_time"     ? Design::one_at_a_time
            : r.design == "grid"            ? Design::grid
@@ -418,7 +411,7 @@ std::string study_hash(const std::string& text_in, const std::string& base_text,
 } // namespace
 
 Study Study::from_file(const std::string& path) {
-  return from_string(slurp(path, SourceLocation{path, 0, 0}, "study file"), path);
+  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "study file"), path);
 }
 
 Study Study::from_string(const std::string& text_in, const std::string& path) {
