@@ -236,19 +236,8 @@ def prepare(a, tmp):
     out_vtp = os.path.join(a.results, f"plastic_zone_{k}.vtp")
     pz.write_regime_vtp(data, labels, legend, out_vtp)
     domains = fv.get("domains", [])
-    polys, box, pile_idx = [], None, []
-    if mesh_pvd:
-        msets = pz.datasets(mesh_pvd)
-        if k < len(msets):
-            polys = pz.mesh_polygons(pz.read(msets[k][1]))
-            box, pile_idx = pz.pile_box(polys, domains, a.pile)
+    polys, box, pile_idx, full = pz.mesh_frame(mesh_pvd, k, domains, a.pile, xyz)
     xs, ys = xyz[:, 0], xyz[:, 1]
-    if polys:
-        allx = [x for p in polys for x in p[0]]
-        ally = [y for p in polys for y in p[1]]
-        full = (min(allx), max(allx), min(ally), max(ally))
-    else:
-        full = (float(xs.min()), float(xs.max()), float(ys.min()), float(ys.max()))
     xlim, ylim = window(full, box, a)
     kinds = {label: kind for label, _, kind in legend}
     skip = [bool(box) and kinds[labels[i]] == "linear" and domain is not None and int(domain[i]) in pile_idx
