@@ -245,14 +245,32 @@ def pile_box(polys, domains, pile_name):
     return (max(xs), min(ys), max(ys)), idx
 
 
+def mesh_frame(mesh_pvd, k, domains, pile, xyz):
+    """What frames the picture of step k (shared with plastic_zone_paraview.py): (the mesh's cells
+    as polygons, the pile's box (R, ytoe, ytop) or None, the pile's domain indices, and full =
+    (xmin, xmax, ymin, ymax) of the mesh, or of the points xyz when there is no mesh)."""
+    polys, box, pile_idx = [], None, []
+    if mesh_pvd:
+        msets = datasets(mesh_pvd)
+        if k < len(msets):
+            polys = mesh_polygons(read(msets[k][1]))
+            box, pile_idx = pile_box(polys, domains, pile)
+    if polys:
+        allx = [x for p in polys for x in p[0]]
+        ally = [y for p in polys for y in p[1]]
+        full = (min(allx), max(allx), min(ally), max(ally))
+    else:
+        xs, ys = xyz[:, 0], xyz[:, 1]
+        full = (float(xs.min()), float(xs.max()), float(ys.min()), float(ys.max()))
+    return polys, box, pile_idx, full
+
+
 def render(a):
-    try:
-        import matplotlib
-        import vtkmodules  # noqa: F401
-    except ImportError:  # another Python first on PATH: the system one has both (Debian packages)
-        if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3"):
-            os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
-        sys.exit("plastic_zone: needs matplotlib and VTK's Python modules (Debian: python3-matplotlib python3-vtk9)")
+    from system_python import require
+
+    require(__file__, ["matplotlib", "vtkmodules"],
+            "matplotlib and VTK's Python modules (Debian: python3-matplotlib python3-vtk9)")
+    import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -265,19 +283,8 @@ def render(a):
     xyz, plastic, domain, itf = point_arrays(data)
     labels, legend = categories(fv, plastic, domain, itf)
     domains = fv.get("domains", [])
-    polys, box, pile_idx = [], None, []
-    if mesh_pvd:
-        msets = datasets(mesh_pvd)
-        if k < len(msets):
-            polys = mesh_polygons(read(msets[k][1]))
-            box, pile_idx = pile_box(polys, domains, a.pile)
+    polys, box, pile_idx, full = mesh_frame(mesh_pvd, k, domains, a.pile, xyz)
     xs, ys = xyz[:, 0], xyz[:, 1]
-    if polys:
-        allx = [x for p in polys for x in p[0]]
-        ally = [y for p in polys for y in p[1]]
-        full = (min(allx), max(allx), min(ally), max(ally))
-    else:
-        full = (xs.min(), xs.max(), ys.min(), ys.max())
     if box and not a.full:
         R, ytoe, ytop = box
         D = 2.0 * R

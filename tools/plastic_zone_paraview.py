@@ -163,56 +163,43 @@ def layout(xlim, ylim, height=1300, plot_height=1100, left=215, bottom=100, lege
 
 # ---------------------------------------------------------------- the files the picture reads
 
-def write_lines(segments, path):
-    from vtkmodules.vtkCommonCore import vtkPoints
+def write_cells(cells, kind, path, regimes=None, regimes_on_points=False):
+    """A .vtp of cells of one kind ("lines", "polys" or "verts"), each a list of (x, y, z) points,
+    with the int array "regime" (one value a cell) as cell data, or as point data when the cells
+    are single points (regimes_on_points)."""
+    from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
     from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 
-    pts, cells = vtkPoints(), vtkCellArray()
-    for p, q in segments:
-        a = pts.InsertNextPoint(p[0], p[1], 0.0)
-        b = pts.InsertNextPoint(q[0], q[1], 0.0)
-        cells.InsertNextCell(2)
-        cells.InsertCellPoint(a)
-        cells.InsertCellPoint(b)
+    pts, cell_array = vtkPoints(), vtkCellArray()
+    for cell in cells:
+        cell_array.InsertNextCell(len(cell))
+        for x, y, z in cell:
+            cell_array.InsertCellPoint(pts.InsertNextPoint(x, y, z))
     pd = vtkPolyData()
     pd.SetPoints(pts)
-    pd.SetLines(cells)
+    {"lines": pd.SetLines, "polys": pd.SetPolys, "verts": pd.SetVerts}[kind](cell_array)
+    if regimes is not None:
+        reg = vtkIntArray()
+        reg.SetName("regime")
+        for r in regimes:
+            reg.InsertNextValue(r)
+        (pd.GetPointData() if regimes_on_points else pd.GetCellData()).AddArray(reg)
     write_polydata(pd, path)
+
+
+def write_lines(segments, path):
+    write_cells([[(p[0], p[1], 0.0), (q[0], q[1], 0.0)] for p, q in segments], "lines", path)
 
 
 def write_polygons(polygons, category, path):
-    from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
-    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
-
-    pts, cells, reg = vtkPoints(), vtkCellArray(), vtkIntArray()
-    reg.SetName("regime")
-    for poly in polygons:
-        cells.InsertNextCell(len(poly))
-        for x, y in poly:
-            cells.InsertCellPoint(pts.InsertNextPoint(x, y, -1e-3))  # behind the points
-        reg.InsertNextValue(category)
-    pd = vtkPolyData()
-    pd.SetPoints(pts)
-    pd.SetPolys(cells)
-    pd.GetCellData().AddArray(reg)
-    write_polydata(pd, path)
+    cells = [[(x, y, -1e-3) for x, y in poly] for poly in polygons]  # behind the points
+    write_cells(cells, "polys", path, [category] * len(cells))
 
 
 def write_points(xyz, keep, category, path, z=1e-3):
-    from vtkmodules.vtkCommonCore import vtkIntArray, vtkPoints
-    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
-
-    pts, verts, reg = vtkPoints(), vtkCellArray(), vtkIntArray()
-    reg.SetName("regime")
-    for i, c in zip(keep, category):
-        verts.InsertNextCell(1)
-        verts.InsertCellPoint(pts.InsertNextPoint(float(xyz[i, 0]), float(xyz[i, 1]), z))
-        reg.InsertNextValue(c)
-    pd = vtkPolyData()
-    pd.SetPoints(pts)
-    pd.SetVerts(verts)
-    pd.GetPointData().AddArray(reg)
-    write_polydata(pd, path)
+    shown = list(zip(keep, category))
+    cells = [[(float(xyz[i, 0]), float(xyz[i, 1]), z)] for i, _ in shown]
+    write_cells(cells, "verts", path, [c for _, c in shown], regimes_on_points=True)
 
 
 def write_polydata(pd, path):
@@ -236,19 +223,8 @@ def prepare(a, tmp):
     out_vtp = os.path.join(a.results, f"plastic_zone_{k}.vtp")
     pz.write_regime_vtp(data, labels, legend, out_vtp)
     domains = fv.get("domains", [])
-    polys, box, pile_idx = [], None, []
-    if mesh_pvd:
-        msets = pz.datasets(mesh_pvd)
-        if k < len(msets):
-            polys = pz.mesh_polygons(pz.read(msets[k][1]))
-            box, pile_idx = pz.pile_box(polys, domains, a.pile)
+    polys, box, pile_idx, full = pz.mesh_frame(mesh_pvd, k, domains, a.pile, xyz)
     xs, ys = xyz[:, 0], xyz[:, 1]
-    if polys:
-        allx = [x for p in polys for x in p[0]]
-        ally = [y for p in polys for y in p[1]]
-        full = (min(allx), max(allx), min(ally), max(ally))
-    else:
-        full = (float(xs.min()), float(xs.max()), float(ys.min()), float(ys.max()))
     xlim, ylim = window(full, box, a)
     kinds = {label: kind for label, _, kind in legend}
     skip = [bool(box) and kinds[labels[i]] == "linear" and domain is not None and int(domain[i]) in pile_idx

@@ -21,12 +21,10 @@ import math
 import os
 import sys
 
-try:
-    import matplotlib
-except ImportError:  # another Python first on PATH (pyenv, conda): Debian's has python3-matplotlib
-    if os.path.exists("/usr/bin/python3") and os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3"):
-        os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
-    sys.exit("plot_sweep: needs matplotlib (Debian: python3-matplotlib)")
+from system_python import require
+
+require(__file__, ["matplotlib"], "matplotlib (Debian: python3-matplotlib)")
+import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

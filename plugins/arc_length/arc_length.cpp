@@ -9,7 +9,7 @@
 //     (cylindrical: psi = 0; spherical: psi > 0, in m per unit load factor),
 //   external work (4.17)-(4.18): first iterate (lambda_n + dl/2) F.du = W, then every
 //     correction does no work: (lambda + dlambda/2) F.ddu = 0.
-#include "stratum/iteration.hpp"
+#include "common/solver_steps.hpp"
 #include "stratum/plugin.hpp"
 
 #include <Eigen/SparseLU>
@@ -20,6 +20,7 @@
 namespace {
 
 using namespace stratum;
+using solver_steps::fail;
 
 class ArcLength final : public Solver {
 public:
@@ -115,23 +116,16 @@ public:
       const bool tangent = full_newton_;
       if (auto o = problem.evaluate(u, lambda, r, tangent ? &k : nullptr); !o.ok()) return fail(rep, o);
       const double rn = r.norm();
-      rep.residual_norms.push_back(rn);
-      if (!std::isfinite(rn)) return fail(rep, {Status::non_finite, "residual is NaN or Inf"});
-      const bool have = it > 0;
-      const auto chk = iteration::check(c, rn, problem.force_scale(lambda), have, have ? ddu.norm() : 0.0,
-                                        du.norm(), have ? std::abs(ddu.dot(r)) : 0.0, e0);
+      if (auto o = solver_steps::record_residual(rep, rn); !o.ok()) return fail(rep, o);
+      const auto chk = solver_steps::check(c, it, rn, problem.force_scale(lambda), ddu, r, du.norm(), e0);
       if (chk.converged()) {
         rep.lambda = lambda;
         rep.arc_length = std::sqrt(du.squaredNorm() + psi2 * dl * dl); // measured: thesis (4.19)
         return rep;
       }
       if (r0 < 0) r0 = std::max(rn, c.force_atol);
-      if (it >= c.max_iterations) {
-        std::ostringstream m;
-        m << "arc length did not converge in " << c.max_iterations << " iterations: |R| = " << rn
-          << " at load factor " << lambda;
-        return fail(rep, {Status::not_converged, m.str()});
-      }
+      if (auto o = solver_steps::iteration_limit_at("arc length", c, it, rn, lambda); !o.ok())
+        return fail(rep, o);
       if (it > 1 && rn > 1e6 * r0) return fail(rep, {Status::diverged, "arc length diverged"});
       if (tangent)
         if (auto o = factor(ls, k, rep); !o.ok()) return fail(rep, o);
@@ -194,10 +188,6 @@ private:
     Outcome o = ls.solve(b, x);
     if (o.ok() && !x.allFinite()) return {Status::singular, "linear solve gave NaN or Inf"};
     return o;
-  }
-  static StepReport& fail(StepReport& rep, Outcome o) {
-    rep.outcome = std::move(o);
-    return rep;
   }
   bool spherical_;
   double psi_;

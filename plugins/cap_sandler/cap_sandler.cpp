@@ -4,8 +4,8 @@
 // and the reading of the thesis' parameter names.
 #include "cap_sandler.hpp"
 
+#include "common/material_plugin.hpp"
 #include "stratum/parameters.hpp"
-#include "stratum/plugin.hpp"
 
 #include <cmath>
 #include <memory>
@@ -94,14 +94,14 @@ stratum::Declared<Input> declare() {
   return d;
 }
 
+std::unique_ptr<stratum::Material> create(const Input& in, const Params&) {
+  return std::make_unique<cs::CapSandler>(in.c, in.integration, in.corner);
+}
+
 } // namespace
 
-STRATUM_PLUGIN(registry) {
-  registry.add(stratum::material_factory(
-      "cap_sandler",
-      "DiMaggio-Sandler cap model: exponential failure envelope, elliptic hardening cap, tension cut-off, "
-      "associated flow; Sandler-Rubin or closest-point integration",
-      declare(), [](const Input& in, const Params&) {
-        return std::make_unique<cs::CapSandler>(in.c, in.integration, in.corner);
-      }));
-}
+STRATUM_MATERIAL_PLUGIN(
+    "cap_sandler",
+    "DiMaggio-Sandler cap model: exponential failure envelope, elliptic hardening cap, tension cut-off, "
+    "associated flow; Sandler-Rubin or closest-point integration",
+    declare(), create)

@@ -6,6 +6,7 @@
 // Components (contact_law.hpp): 0 = shear, 1 = normal; sigma tension positive, opening positive.
 #pragma once
 
+#include "common/contact_history.hpp"
 #include "stratum/contact_law.hpp"
 #include "stratum/parameters.hpp"
 #include "stratum/params.hpp"
@@ -69,15 +70,12 @@ public:
         state = 1.0;
       }
     }
-    out.history[0] = up;
-    out.history[1] = vp;
-    out.history[2] = failed;
-    out.history[3] = state;
+    contact_history::store(out.history, {up, vp, failed, state});
     return {};
   }
 
   [[nodiscard]] ContactState state(const Vec2& /*traction*/, std::span<const double> h) const override {
-    return static_cast<ContactState>(static_cast<int>(h[3] + 0.5));
+    return contact_history::state(h[3]);
   }
 
 private:

@@ -8,15 +8,15 @@
 // the load-factor correction that keeps c.du = d (a bordered system by two solves).
 // Where the controlled displacement cannot grow (a snap-back turning point) the
 // step does not converge and comes back as a status.
-#include "stratum/iteration.hpp"
+#include "common/solver_steps.hpp"
 #include "stratum/plugin.hpp"
 
 #include <cmath>
-#include <sstream>
 
 namespace {
 
 using namespace stratum;
+using solver_steps::fail;
 
 class DisplacementControl final : public Solver {
 public:
@@ -67,23 +67,19 @@ public:
       u = u_n + du;
       if (auto o = problem.evaluate(u, lambda, r, &k); !o.ok()) return fail(rep, o);
       const double rn = r.norm();
-      rep.residual_norms.push_back(rn);
-      if (!std::isfinite(rn)) return fail(rep, {Status::non_finite, "residual is NaN or Inf"});
-      const bool have = it > 0;
-      const auto chk = iteration::check(c, rn, problem.force_scale(lambda), have, have ? ddu.norm() : 0.0,
-                                        du.norm(), have ? std::abs(ddu.dot(r)) : 0.0, e0);
+      if (auto o = solver_steps::record_residual(rep, rn); !o.ok()) return fail(rep, o);
+      const auto chk = solver_steps::check(c, it, rn, problem.force_scale(lambda), ddu, r, du.norm(), e0);
       if (chk.converged()) {
         rep.lambda = lambda;
         rep.arc_length = std::abs(mean(du));
         return rep;
       }
       if (r0 < 0) r0 = std::max(rn, c.force_atol);
-      if (it >= c.max_iterations) {
-        std::ostringstream m;
-        m << "displacement control did not converge in " << c.max_iterations << " iterations: |R| = " << rn
-          << " at load factor " << lambda << " (beyond a turning point of the controlled displacement?)";
-        return fail(rep, {Status::not_converged, m.str()});
-      }
+      if (auto o =
+              solver_steps::iteration_limit_at("displacement control", c, it, rn, lambda,
+                                               " (beyond a turning point of the controlled displacement?)");
+          !o.ok())
+        return fail(rep, o);
       if (it > 1 && rn > 1e6 * r0) return fail(rep, {Status::diverged, "displacement control diverged"});
       if (auto o = step(ls, k, f, uf, rep); !o.ok()) return fail(rep, o);
       ++rep.solves;
@@ -108,10 +104,6 @@ private:
     if (auto o = ls.factorize(k); !o.ok()) return o;
     ++rep.solves;
     return ls.solve(f, uf);
-  }
-  static StepReport& fail(StepReport& rep, Outcome o) {
-    rep.outcome = std::move(o);
-    return rep;
   }
   std::string nodes_;
   int component_;

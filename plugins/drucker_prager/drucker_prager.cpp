@@ -3,15 +3,14 @@
 // live in drucker_prager.hpp (shared with the tests).
 #include "drucker_prager.hpp"
 
+#include "common/material_plugin.hpp"
 #include "stratum/parameters.hpp"
-#include "stratum/plugin.hpp"
 
 #include <memory>
 #include <string>
 
 namespace {
 
-using stratum::Params;
 namespace dp = stratum::drucker_prager;
 namespace pl = stratum::plasticity;
 
@@ -40,12 +39,8 @@ stratum::Declared<dp::Parameters> declare() {
 
 } // namespace
 
-STRATUM_PLUGIN(registry) {
-  registry.add(stratum::material_factory(
-      "drucker_prager",
-      "Drucker-Prager cone matched to Mohr-Coulomb, non-associated flow, linear cohesion hardening, "
-      "closed-form apex return",
-      declare(), [](const dp::Parameters& m, const Params& p) {
-        return std::make_unique<dp::DruckerPrager>(m, pl::read_integrator_parameters(p));
-      }));
-}
+STRATUM_MATERIAL_PLUGIN(
+    "drucker_prager",
+    "Drucker-Prager cone matched to Mohr-Coulomb, non-associated flow, linear cohesion hardening, "
+    "closed-form apex return",
+    declare(), stratum::material_plugin::with_integrator<dp::DruckerPrager>)

@@ -14,6 +14,7 @@
 // Tension positive, Voigt order and engineering shear as in stratum/voigt.hpp.
 #pragma once
 
+#include "common/material_checks.hpp"
 #include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
@@ -276,19 +277,14 @@ public:
   }
 
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
-    auto where = [&in] {
-      return " at element " + std::to_string(in.where.element) + ", point " + std::to_string(in.where.point);
-    };
-    if (!in.dstrain.allFinite() || !in.stress_n.allFinite())
-      return Outcome::failure(Status::non_finite,
-                              "drucker_prager: non-finite strain increment or stress" + where());
+    if (Outcome o = material_checks::finite_input(in, "drucker_prager"); !o.ok()) return o;
     const double q_n = in.history_n.empty() ? 0.0 : in.history_n[0];
     const Vec6 trial = in.stress_n + D_ * in.dstrain;
     if (apex_regime(model_, G_, K_, trial, q_n)) {
       const ApexResult r = apex_return(model_, G_, K_, trial, q_n);
       if (!r.ok)
-        return Outcome::failure(Status::not_converged,
-                                "drucker_prager: the apex return did not converge" + where());
+        return Outcome::failure(Status::not_converged, "drucker_prager: the apex return did not converge" +
+                                                           material_checks::where(in));
       out.stress = r.sigma;
       out.tangent = r.tangent;
       out.history[0] = r.q;
@@ -298,9 +294,11 @@ public:
     const plasticity::Result r = plasticity::integrate(model_, settings_, in.stress_n, in.dstrain, out.stress,
                                                        q, out.tangent, nullptr, in.want_tangent);
     if (!r.outcome.ok())
-      return Outcome::failure(r.outcome.status, "drucker_prager: " + r.outcome.message + where());
+      return Outcome::failure(r.outcome.status,
+                              "drucker_prager: " + r.outcome.message + material_checks::where(in));
     if (!out.stress.allFinite() || (in.want_tangent && !out.tangent.allFinite()))
-      return Outcome::failure(Status::non_finite, "drucker_prager: non-finite stress or tangent" + where());
+      return Outcome::failure(Status::non_finite,
+                              "drucker_prager: non-finite stress or tangent" + material_checks::where(in));
     out.history[0] = q[0];
     return Outcome::success();
   }

@@ -6,6 +6,7 @@
 // strain, or the bulk-modulus parameters K_b, m (Duncan et al. 1980). Compression positive, kPa.
 #include "duncan_chang_calibration.hpp"
 
+#include "common/calibration_plugin.hpp"
 #include "stratum/calibration_toolkit.hpp"
 #include "stratum/error.hpp"
 
@@ -238,18 +239,6 @@ FittedParameters fitted(const DuncanChangFit& f) {
   return out;
 }
 
-class DuncanChangCalibration : public Calibration {
-public:
-  explicit DuncanChangCalibration(DuncanChangForm form) : form_(form) {}
-  [[nodiscard]] LabTest lab_test() const override { return LabTest::triaxial; }
-  [[nodiscard]] FittedParameters fit(const LabCurves& curves) const override {
-    return fitted(fit_duncan_chang(curves.triaxial, form_, curves.source));
-  }
-
-private:
-  DuncanChangForm form_;
-};
-
 } // namespace
 
 void register_calibration(Registry& registry) {
@@ -263,8 +252,10 @@ void register_calibration(Registry& registry) {
             "parameters K_b, m from the volumetric strain")
       .defaults_to(std::string("E_nu"));
   f.create = [](const Params& p) -> std::unique_ptr<Calibration> {
-    return std::make_unique<DuncanChangCalibration>(p.text("form") == "E_B" ? DuncanChangForm::E_B
-                                                                            : DuncanChangForm::E_nu);
+    const DuncanChangForm form = p.text("form") == "E_B" ? DuncanChangForm::E_B : DuncanChangForm::E_nu;
+    return calibration_plugin::fitting(LabTest::triaxial, [form](const LabCurves& curves) {
+      return fitted(fit_duncan_chang(curves.triaxial, form, curves.source));
+    });
   };
   registry.add(std::move(f));
 }

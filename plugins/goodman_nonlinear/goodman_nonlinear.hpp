@@ -9,6 +9,7 @@
 // Inside, p = -sigma is the compressive normal stress of the thesis.
 #pragma once
 
+#include "common/contact_history.hpp"
 #include "stratum/contact_law.hpp"
 #include "stratum/parameters.hpp"
 #include "stratum/params.hpp"
@@ -173,15 +174,12 @@ public:
       state = sh.sliding ? 1.0 : 0.0;
     }
     out.traction = Vec2(open ? 0.0 : sh.tau, sigma);
-    out.history[0] = sh.q_max;
-    out.history[1] = sh.failed ? 1.0 : 0.0;
-    out.history[2] = tension_failed;
-    out.history[3] = state;
+    contact_history::store(out.history, {sh.q_max, sh.failed ? 1.0 : 0.0, tension_failed, state});
     return {};
   }
 
   [[nodiscard]] ContactState state(const Vec2& /*traction*/, std::span<const double> h) const override {
-    return static_cast<ContactState>(static_cast<int>(h[3] + 0.5));
+    return contact_history::state(h[3]);
   }
 
 private:

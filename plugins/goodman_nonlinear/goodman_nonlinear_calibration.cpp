@@ -5,6 +5,7 @@
 // curves. Compression positive, kPa, m.
 #include "goodman_nonlinear_calibration.hpp"
 
+#include "common/calibration_plugin.hpp"
 #include "stratum/calibration_toolkit.hpp"
 #include "stratum/error.hpp"
 
@@ -180,18 +181,6 @@ FittedParameters fitted(const ContactFit& f) {
   return out;
 }
 
-class GoodmanCalibration : public Calibration {
-public:
-  explicit GoodmanCalibration(ContactOptions options) : options_(options) {}
-  [[nodiscard]] LabTest lab_test() const override { return LabTest::direct_shear; }
-  [[nodiscard]] FittedParameters fit(const LabCurves& curves) const override {
-    return fitted(fit_contact(curves.direct_shear, options_, curves.source));
-  }
-
-private:
-  ContactOptions options_;
-};
-
 Factory<Calibration> factory(const std::string& name, const std::string& summary) {
   Factory<Calibration> f;
   f.name = name;
@@ -203,7 +192,9 @@ Factory<Calibration> factory(const std::string& name, const std::string& summary
     ContactOptions o;
     o.fix_k_s0 = p.where("k_s0").known(); // given on the command line
     o.k_s0 = o.fix_k_s0 ? p.real("k_s0") : 0.0;
-    return std::make_unique<GoodmanCalibration>(o);
+    return calibration_plugin::fitting(LabTest::direct_shear, [o](const LabCurves& curves) {
+      return fitted(fit_contact(curves.direct_shear, o, curves.source));
+    });
   };
   return f;
 }

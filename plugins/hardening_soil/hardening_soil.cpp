@@ -3,8 +3,8 @@
 // hardening_soil.hpp (shared with the tests); README.md gives the equations.
 #include "hardening_soil.hpp"
 
+#include "common/material_plugin.hpp"
 #include "stratum/parameters.hpp"
-#include "stratum/plugin.hpp"
 
 #include <cmath>
 #include <memory>
@@ -117,11 +117,9 @@ std::unique_ptr<stratum::Material> create(hs::Parameters m, const Params& p) {
 
 } // namespace
 
-STRATUM_PLUGIN(registry) {
-  registry.add(stratum::material_factory(
-      "hardening_soil",
-      "Hardening Soil (Schanz et al. 1999): hyperbolic shear hardening, Mohr-Coulomb failure, volumetric "
-      "cap, tension cut-off, stress-dependent stiffness; optional small-strain stiffness (Benz 2007, scalar "
-      "history)",
-      declare(), create));
-}
+STRATUM_MATERIAL_PLUGIN(
+    "hardening_soil",
+    "Hardening Soil (Schanz et al. 1999): hyperbolic shear hardening, Mohr-Coulomb failure, volumetric "
+    "cap, tension cut-off, stress-dependent stiffness; optional small-strain stiffness (Benz 2007, scalar "
+    "history)",
+    declare(), create)

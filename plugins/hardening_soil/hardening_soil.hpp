@@ -19,6 +19,7 @@
 // Header only, so the tests run exactly the plugin's code; hardening_soil.cpp adds the factory.
 #pragma once
 
+#include "common/material_checks.hpp"
 #include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
@@ -700,12 +701,7 @@ public:
   }
 
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
-    auto where = [&in] {
-      return " at element " + std::to_string(in.where.element) + ", point " + std::to_string(in.where.point);
-    };
-    if (!in.dstrain.allFinite() || !in.stress_n.allFinite())
-      return Outcome::failure(Status::non_finite,
-                              "hardening_soil: non-finite strain increment or stress" + where());
+    if (Outcome o = material_checks::finite_input(in, "hardening_soil"); !o.ok()) return o;
     for (std::size_t i = 0; i < out.history.size(); ++i) out.history[i] = in.history_n[i];
     const Parameters& p = core_.params();
     Internal qn{in.history_n[slot::gamma_p], in.history_n[slot::p_p]};
@@ -727,10 +723,10 @@ public:
       const Vec6 trial = in.stress_n + s_end - secant_stress(out.history, a, nullptr);
       a += in.dstrain;
       for (int i = 0; i < 6; ++i) out.history[slot::strain_since_reversal + i] = a[i];
-      return plastic_update(in, qn, trial, Dss, out, where);
+      return plastic_update(in, qn, trial, Dss, out);
     }
     const Mat6 D = isotropic_stiffness(core_.Eur(sigma3(in.stress_n)), p.nu_ur);
-    return plastic_update(in, qn, in.stress_n + D * in.dstrain, D, out, where);
+    return plastic_update(in, qn, in.stress_n + D * in.dstrain, D, out);
   }
 
   /// The small-strain secant law from the last reversal, K tr(a) 1 + 2 G_sec(gamma_hist) dev(a),
@@ -768,16 +764,16 @@ private:
 
   // Without want_tangent, out.tangent is the caller's (possibly uninitialised) storage, left as it
   // is: checking it failed residual-only evaluations at random (the sanitizer build, docs/testing.md).
-  template <class Where> Outcome check(const MaterialInput& in, MaterialOutput& out, Where&& where) const {
+  Outcome check(const MaterialInput& in, MaterialOutput& out) const {
     if (!out.stress.allFinite() || (in.want_tangent && !out.tangent.allFinite()))
-      return Outcome::failure(Status::non_finite, "hardening_soil: non-finite stress or tangent" + where());
+      return Outcome::failure(Status::non_finite,
+                              "hardening_soil: non-finite stress or tangent" + material_checks::where(in));
     return Outcome::success();
   }
 
-  template <class Where>
   /// The return from `trial` (d trial / d strain = Dtr) with the corrector stiffness of E_ur.
   Outcome plastic_update(const MaterialInput& in, const Internal& qn, const Vec6& trial, const Mat6& Dtr,
-                         MaterialOutput& out, Where&& where) const {
+                         MaterialOutput& out) const {
     const Parameters& p = core_.params();
     const Mat3 Dp = isotropic_stiffness(core_.Eur(sigma3(in.stress_n)), p.nu_ur).topLeftCorner<3, 3>();
     // One return from the whole trial; if no admissible active set exists (a trial far outside,
@@ -821,11 +817,11 @@ private:
       out.history[slot::status] = static_cast<double>(active);
       out.stress = s;
       if (in.want_tangent) out.tangent = T;
-      return check(in, out, where);
+      return check(in, out);
     }
     return Outcome::failure(Status::material_failure,
                             "hardening_soil: no admissible return found (also in 64 sub-increments)" +
-                                where());
+                                material_checks::where(in));
   }
 
   Core core_;

@@ -3,6 +3,7 @@
 // exactly the code of the plugin; hex.cpp adds the factory. Equations: README.md in this folder.
 #pragma once
 
+#include "common/continuum_element.hpp"
 #include "stratum/element.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material_point.hpp"
@@ -164,13 +165,11 @@ public:
       f.noalias() += B[k].transpose() * (dV[k] * stress);
       if (want_tangent) K.noalias() += B[k].transpose() * (dV[k] * tangent) * B[k];
     }
-    out.force = f;
-    if (want_tangent) out.stiffness = K;
-    return Outcome::success();
+    return continuum::deliver(out, f, K, want_tangent);
   }
 
   [[nodiscard]] bool constant_stiffness(const Constitutive& law) const override {
-    return law.material != nullptr && law.material->is_linear();
+    return continuum::constant_stiffness(law);
   }
 
   void body_force(const ElementData& cell, const Eigen::VectorXd& b, Eigen::VectorXd& f) const override {
@@ -197,11 +196,7 @@ public:
     w.resize(static_cast<Eigen::Index>(rule_.size()));
     for (std::size_t i = 0; i < rule_.size(); ++i)
       w(static_cast<Eigen::Index>(i)) = rule_[i].weight * (rule_[i].dN.transpose() * X).determinant();
-    const double total = w.sum();
-    if (total > 0.0 && w.allFinite())
-      w /= total;
-    else
-      w.setConstant(1.0 / static_cast<double>(rule_.size()));
+    continuum::normalize_weights(w);
   }
 
 private:

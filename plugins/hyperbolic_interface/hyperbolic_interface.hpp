@@ -7,6 +7,7 @@
 // Components (contact_law.hpp): 0 = shear, 1 = normal; sigma tension positive, opening positive.
 #pragma once
 
+#include "common/contact_history.hpp"
 #include "stratum/contact_law.hpp"
 #include "stratum/parameters.hpp"
 #include "stratum/params.hpp"
@@ -84,13 +85,12 @@ public:
         state = 1.0;
       }
     }
-    out.history[0] = up;
-    out.history[1] = state;
+    contact_history::store(out.history, {up, state});
     return {};
   }
 
   [[nodiscard]] ContactState state(const Vec2& /*traction*/, std::span<const double> h) const override {
-    return static_cast<ContactState>(static_cast<int>(h[1] + 0.5));
+    return contact_history::state(h[1]);
   }
 
 private:

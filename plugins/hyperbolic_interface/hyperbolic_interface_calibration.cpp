@@ -5,6 +5,7 @@
 // Compression positive, kPa, m.
 #include "hyperbolic_interface_calibration.hpp"
 
+#include "common/calibration_plugin.hpp"
 #include "stratum/calibration_toolkit.hpp"
 #include "stratum/error.hpp"
 
@@ -66,14 +67,6 @@ FittedParameters fitted(const InterfaceFit& f) {
   return out;
 }
 
-class InterfaceCalibration : public Calibration {
-public:
-  [[nodiscard]] LabTest lab_test() const override { return LabTest::direct_shear; }
-  [[nodiscard]] FittedParameters fit(const LabCurves& curves) const override {
-    return fitted(fit_hyperbolic_interface(curves.direct_shear, curves.source));
-  }
-};
-
 } // namespace
 
 void register_calibration(Registry& registry) {
@@ -82,7 +75,9 @@ void register_calibration(Registry& registry) {
   f.summary = "the hyperbolic_interface contact law's K_I, n, R_f, c_a, delta from direct-shear curves at "
               "several sigma_n";
   f.create = [](const Params&) -> std::unique_ptr<Calibration> {
-    return std::make_unique<InterfaceCalibration>();
+    return calibration_plugin::fitting(LabTest::direct_shear, [](const LabCurves& curves) {
+      return fitted(fit_hyperbolic_interface(curves.direct_shear, curves.source));
+    });
   };
   registry.add(std::move(f));
 }

@@ -130,37 +130,42 @@ int ls_free(SUNLinearSolver s) {
 
 void quiet(int, const char*, const char*, char*, void*) {}
 
-/// KINSOL's flags as our statuses.
+/// KINSOL's failure flags as our statuses: the status and the message of each flag; a message
+/// marked `numbered` ends with the flag's number.
+struct FlagMeaning {
+  int flag;
+  Status status;
+  const char* message;
+  bool numbered;
+};
+constexpr FlagMeaning flag_meanings[] = {
+    {KIN_LINESEARCH_NONCONV, Status::not_converged,
+     "the line search could not find an acceptable step (KIN_LINESEARCH_NONCONV)", false},
+    {KIN_MAXITER_REACHED, Status::not_converged, "maximum number of iterations reached (KIN_MAXITER_REACHED)",
+     false},
+    {KIN_MXNEWT_5X_EXCEEDED, Status::diverged,
+     "five consecutive steps exceeded the maximum Newton step (KIN_MXNEWT_5X_EXCEEDED)", false},
+    {KIN_LINESEARCH_BCFAIL, Status::not_converged,
+     "the line search failed the beta condition repeatedly (KIN_LINESEARCH_BCFAIL)", false},
+    {KIN_LINSOLV_NO_RECOVERY, Status::singular, "the linear solver failed", true},
+    {KIN_LSETUP_FAIL, Status::singular, "the linear solver failed", true},
+    {KIN_LSOLVE_FAIL, Status::singular, "the linear solver failed", true},
+    {KIN_SYSFUNC_FAIL, Status::material_failure, "the residual evaluation failed", true},
+    {KIN_FIRST_SYSFUNC_ERR, Status::material_failure, "the residual evaluation failed", true},
+    {KIN_REPTD_SYSFUNC_ERR, Status::material_failure, "the residual evaluation failed", true},
+};
+
 Outcome translate(int flag) {
   std::ostringstream m;
   m << "KINSOL: ";
-  switch (flag) {
-  case KIN_LINESEARCH_NONCONV:
-    m << "the line search could not find an acceptable step (KIN_LINESEARCH_NONCONV)";
-    return {Status::not_converged, m.str()};
-  case KIN_MAXITER_REACHED:
-    m << "maximum number of iterations reached (KIN_MAXITER_REACHED)";
-    return {Status::not_converged, m.str()};
-  case KIN_MXNEWT_5X_EXCEEDED:
-    m << "five consecutive steps exceeded the maximum Newton step (KIN_MXNEWT_5X_EXCEEDED)";
-    return {Status::diverged, m.str()};
-  case KIN_LINESEARCH_BCFAIL:
-    m << "the line search failed the beta condition repeatedly (KIN_LINESEARCH_BCFAIL)";
-    return {Status::not_converged, m.str()};
-  case KIN_LINSOLV_NO_RECOVERY:
-  case KIN_LSETUP_FAIL:
-  case KIN_LSOLVE_FAIL:
-    m << "the linear solver failed (flag " << flag << ")";
-    return {Status::singular, m.str()};
-  case KIN_SYSFUNC_FAIL:
-  case KIN_FIRST_SYSFUNC_ERR:
-  case KIN_REPTD_SYSFUNC_ERR:
-    m << "the residual evaluation failed (flag " << flag << ")";
-    return {Status::material_failure, m.str()};
-  default:
-    m << "failed with flag " << flag;
-    return {Status::not_converged, m.str()};
-  }
+  for (const FlagMeaning& f : flag_meanings)
+    if (f.flag == flag) {
+      m << f.message;
+      if (f.numbered) m << " (flag " << flag << ")";
+      return {f.status, m.str()};
+    }
+  m << "failed with flag " << flag;
+  return {Status::not_converged, m.str()};
 }
 
 class Kinsol final : public Solver {

@@ -4,15 +4,14 @@
 // parameter set.
 #include "lade.hpp"
 
+#include "common/material_plugin.hpp"
 #include "stratum/parameters.hpp"
-#include "stratum/plugin.hpp"
 
 #include <memory>
 #include <string>
 
 namespace {
 
-using stratum::Params;
 namespace ld = stratum::lade;
 
 stratum::Declared<ld::Constants> declare() {
@@ -53,10 +52,8 @@ stratum::Declared<ld::Constants> declare() {
 
 } // namespace
 
-STRATUM_PLUGIN(registry) {
-  registry.add(stratum::material_factory(
-      "lade",
-      "Lade (1977) double-hardening model: non-associated work-hardening cone, associated work-hardening "
-      "spherical cap, stress-dependent unload-reload modulus; unsymmetric tangent",
-      declare(), [](const ld::Constants& c, const Params&) { return std::make_unique<ld::Lade>(c); }));
-}
+STRATUM_MATERIAL_PLUGIN(
+    "lade",
+    "Lade (1977) double-hardening model: non-associated work-hardening cone, associated work-hardening "
+    "spherical cap, stress-dependent unload-reload modulus; unsymmetric tangent",
+    declare(), stratum::material_plugin::from_input<ld::Lade>)

@@ -30,6 +30,7 @@
 // [2] active set of the last increment (0 elastic, 1 cone, 2 cap, 3 both), [3] substeps used.
 #pragma once
 
+#include "common/material_checks.hpp"
 #include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
@@ -256,16 +257,13 @@ public:
   }
 
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
-    auto where = [&] {
-      return " at element " + std::to_string(in.where.element) + ", point " + std::to_string(in.where.point);
-    };
-    if (!in.dstrain.allFinite() || !in.stress_n.allFinite())
-      return Outcome::failure(Status::non_finite, "lade: non-finite strain increment or stress" + where());
+    if (Outcome o = material_checks::finite_input(in, "lade"); !o.ok()) return o;
     const Vec6 sn = -in.stress_n, de = -in.dstrain;
     if (!(I1(sn) > 0.0 && I3(sn) > 0.0))
       return Outcome::failure(Status::material_failure,
-                              "lade: committed stress outside the cone (I1 = " + number(I1(sn)) + ", I3 = " +
-                                  number(I3(sn)) + " kPa^3; the model has no tensile strength)" + where());
+                              "lade: committed stress outside the cone (I1 = " + number(I1(sn)) +
+                                  ", I3 = " + number(I3(sn)) + " kPa^3; the model has no tensile strength)" +
+                                  material_checks::where(in));
     const Frozen z = frozen(sn);
     for (int nsub = std::max(c_.substeps, 1); nsub <= 64 * std::max(c_.substeps, 1); nsub *= 2) {
       State st{sn, in.history_n[0], in.history_n[1]};
@@ -285,7 +283,7 @@ public:
     }
     return Outcome::failure(Status::not_converged, "lade: two-surface return did not converge with " +
                                                        std::to_string(64 * std::max(c_.substeps, 1)) +
-                                                       " substeps" + where());
+                                                       " substeps" + material_checks::where(in));
   }
 
 private:

@@ -3,8 +3,8 @@
 // elastic_math.hpp (shared with the tests).
 #include "elastic_math.hpp"
 
+#include "common/material_plugin.hpp"
 #include "stratum/parameters.hpp"
-#include "stratum/plugin.hpp"
 
 #include <memory>
 #include <string>
@@ -60,8 +60,6 @@ std::unique_ptr<stratum::Material> create(const le::Settings& s, const Params&) 
 
 } // namespace
 
-STRATUM_PLUGIN(registry) {
-  registry.add(stratum::material_factory(
-      "linear_elastic", "linear elastic solid, isotropic or cross-anisotropic (vertical y axis of symmetry)",
-      declare(), create));
-}
+STRATUM_MATERIAL_PLUGIN("linear_elastic",
+                        "linear elastic solid, isotropic or cross-anisotropic (vertical y axis of symmetry)",
+                        declare(), create)

@@ -6,15 +6,15 @@
 // initial_stiffness factorizes the tangent of the first state it sees (the start
 // of the analysis: the elastic stiffness) once, in a linear solver of its own, and
 // reuses it for every later step.
-#include "stratum/iteration.hpp"
+#include "common/solver_steps.hpp"
 #include "stratum/plugin.hpp"
 
 #include <cmath>
-#include <sstream>
 
 namespace {
 
 using namespace stratum;
+using solver_steps::fail;
 
 enum class Mode { step_start, initial };
 
@@ -61,39 +61,19 @@ public:
       if (!current)
         if (auto o = problem.evaluate(u, req.lambda, r, refresh ? &k : nullptr); !o.ok()) return fail(rep, o);
       const double rn = r.norm();
-      rep.residual_norms.push_back(rn);
-      if (!std::isfinite(rn)) return fail(rep, {Status::non_finite, "residual is NaN or Inf"});
+      if (auto o = solver_steps::record_residual(rep, rn); !o.ok()) return fail(rep, o);
       const double scale = problem.force_scale(req.lambda);
-      const bool have = it > 0;
-      const auto chk = iteration::check(c, rn, scale, have, have ? du.norm() : 0.0, (u - u_n).norm(),
-                                        have ? std::abs(du.dot(r)) : 0.0, e0);
+      const auto chk = solver_steps::check(c, it, rn, scale, du, r, (u - u_n).norm(), e0);
       if (chk.converged()) return rep;
       if (r0 < 0) r0 = rn;
-      if (it > 1 && rn > divergence_factor_ * std::max(r0, c.force_atol)) {
-        std::ostringstream m;
-        m << name() << " diverged: |R| = " << rn << " after " << it << " iterations (first |R| = " << r0
-          << ")";
-        return fail(rep, {Status::diverged, m.str()});
-      }
-      if (it >= c.max_iterations) {
-        std::ostringstream m;
-        m << name() << " did not converge in " << c.max_iterations << " iterations: |R| = " << rn
-          << ", bound " << iteration::force_bound(c, scale);
-        return fail(rep, {Status::not_converged, m.str()});
-      }
-      if (refresh) {
-        if (auto o = ls->factorize(k); !o.ok()) return fail(rep, o);
-        ++rep.factorizations;
-      }
-      if (auto o = ls->solve(r, du); !o.ok()) return fail(rep, o);
-      ++rep.iterations;
-      ++rep.solves;
+      if (auto o = solver_steps::divergence(name(), divergence_factor_, c, it, rn, r0); !o.ok())
+        return fail(rep, o);
+      if (auto o = solver_steps::iteration_limit(name(), c, it, rn, scale); !o.ok()) return fail(rep, o);
+      if (auto o = solver_steps::correction(*ls, refresh ? &k : nullptr, r, du, rep); !o.ok())
+        return fail(rep, o);
       if (e0 < 0) e0 = std::abs(du.dot(r));
-      const iteration::Backtrack b = iteration::line_search(problem, u, du, req.lambda, rn, line_search_, r,
-                                                            refresh_at(it + 1) ? &k : nullptr);
-      du *= b.step;
-      u += du;
-      current = b.evaluated;
+      current = solver_steps::take_correction(problem, u, du, req.lambda, rn, line_search_, r,
+                                              refresh_at(it + 1) ? &k : nullptr);
     }
   }
 
@@ -104,10 +84,6 @@ private:
   static bool is_symmetric(const SparseMatrix& k) {
     const SparseMatrix t = k.transpose();
     return (k - t).norm() <= 1e-12 * k.norm();
-  }
-  static StepReport& fail(StepReport& rep, Outcome o) {
-    rep.outcome = std::move(o);
-    return rep;
   }
   Mode mode_;
   double divergence_factor_;
@@ -120,23 +96,10 @@ private:
   mutable Eigen::Index initial_size_ = -1;
 };
 
-Schema common_schema() {
-  Schema s;
-  s.real("divergence_factor", "-", "stop when |R| exceeds this multiple of the first residual")
-      .greater_than(1)
-      .defaults_to(1e6);
-  s.integer("line_search", "-",
-            "backtracking halvings allowed when a correction increases |R| (0: no line search)")
-      .at_least(0)
-      .at_most(30)
-      .defaults_to(0LL);
-  return s;
-}
-
 } // namespace
 
 STRATUM_PLUGIN(registry) {
-  Schema m = common_schema();
+  Schema m = solver_steps::newton_parameters("no line search");
   m.integer("refresh_every", "-",
             "re-form and refactorize the tangent every k iterations (0: only at the step start)")
       .at_least(0)
@@ -151,7 +114,7 @@ STRATUM_PLUGIN(registry) {
   registry.add(Factory<Solver>{
       .name = "initial_stiffness",
       .summary = "initial-stiffness method: the first tangent factorized once and reused for every step",
-      .schema = common_schema(),
+      .schema = solver_steps::newton_parameters("no line search"),
       .create = [](const Params& p) { return std::make_unique<ModifiedNewton>(p, Mode::initial); },
       .library = {}});
 }

@@ -3,8 +3,8 @@
 // live in mohr_coulomb.hpp (shared with the tests).
 #include "mohr_coulomb.hpp"
 
+#include "common/material_plugin.hpp"
 #include "stratum/parameters.hpp"
-#include "stratum/plugin.hpp"
 
 #include <memory>
 #include <string>
@@ -59,12 +59,8 @@ stratum::Declared<mc::Parameters> declare() {
 
 } // namespace
 
-STRATUM_PLUGIN(registry) {
-  registry.add(stratum::material_factory(
-      "mohr_coulomb",
-      "perfectly plastic Mohr-Coulomb, exact pyramid (principal-space return, tension cut-off) or "
-      "Gudehus-rounded, non-associated flow",
-      declare(), [](const mc::Parameters& m, const Params& p) {
-        return std::make_unique<mc::MohrCoulomb>(m, pl::read_integrator_parameters(p));
-      }));
-}
+STRATUM_MATERIAL_PLUGIN(
+    "mohr_coulomb",
+    "perfectly plastic Mohr-Coulomb, exact pyramid (principal-space return, tension cut-off) or "
+    "Gudehus-rounded, non-associated flow",
+    declare(), stratum::material_plugin::with_integrator<mc::MohrCoulomb>)

@@ -17,6 +17,7 @@
 // Tension positive, Voigt order and engineering shear as in stratum/voigt.hpp.
 #pragma once
 
+#include "common/material_checks.hpp"
 #include "stratum/elasticity.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material.hpp"
@@ -498,18 +499,14 @@ public:
   }
 
   [[nodiscard]] Outcome update(const MaterialInput& in, MaterialOutput& out) const override {
-    auto where = [&in] {
-      return " at element " + std::to_string(in.where.element) + ", point " + std::to_string(in.where.point);
-    };
-    if (!in.dstrain.allFinite() || !in.stress_n.allFinite())
-      return Outcome::failure(Status::non_finite,
-                              "mohr_coulomb: non-finite strain increment or stress" + where());
+    if (Outcome o = material_checks::finite_input(in, "mohr_coulomb"); !o.ok()) return o;
     const Vec6 trial = in.stress_n + D_ * in.dstrain;
     if (p_.form == Form::exact) {
       const ExactResult r = exact_return(exact_, trial, in.want_tangent);
       if (!r.ok)
         return Outcome::failure(Status::material_failure,
-                                "mohr_coulomb: no admissible return found in principal space" + where());
+                                "mohr_coulomb: no admissible return found in principal space" +
+                                    material_checks::where(in));
       out.stress = r.sigma;
       if (in.want_tangent) out.tangent = r.dsigma_dtrial * D_;
     } else {
@@ -522,11 +519,13 @@ public:
             plasticity::integrate(rounded_, settings_, in.stress_n, in.dstrain, out.stress, {}, out.tangent,
                                   nullptr, in.want_tangent);
         if (!r.outcome.ok())
-          return Outcome::failure(r.outcome.status, "mohr_coulomb: " + r.outcome.message + where());
+          return Outcome::failure(r.outcome.status,
+                                  "mohr_coulomb: " + r.outcome.message + material_checks::where(in));
       }
     }
     if (!out.stress.allFinite() || (in.want_tangent && !out.tangent.allFinite()))
-      return Outcome::failure(Status::non_finite, "mohr_coulomb: non-finite stress or tangent" + where());
+      return Outcome::failure(Status::non_finite,
+                              "mohr_coulomb: non-finite stress or tangent" + material_checks::where(in));
     const Vec6 dep = in.dstrain - S_ * (out.stress - in.stress_n);
     out.history[0] = (in.history_n.empty() ? 0.0 : in.history_n[0]) + equivalent_plastic_strain(dep);
     return Outcome::success();

@@ -6,7 +6,7 @@
 // energy_rtol > 0, also the thesis' energy test (4.21) |du.R| <= energy_rtol |du_1.R_0|,
 // and with displacement_test |du| <= max(disp_rtol |u - u_n|, disp_atol)
 // (stratum/iteration.hpp, shared with the other iterative solvers).
-#include "stratum/iteration.hpp"
+#include "common/solver_steps.hpp"
 #include "stratum/plugin.hpp"
 
 #include <cmath>
@@ -16,6 +16,7 @@
 namespace {
 
 using namespace stratum;
+using solver_steps::fail;
 
 class Newton final : public Solver {
 public:
@@ -59,12 +60,9 @@ public:
       } else
         decided = free;
       const double rn = r.norm();
-      rep.residual_norms.push_back(rn);
-      if (!std::isfinite(rn)) return fail(rep, {Status::non_finite, "residual is NaN or Inf"});
+      if (auto o = solver_steps::record_residual(rep, rn); !o.ok()) return fail(rep, o);
       const double scale = problem.force_scale(req.lambda);
-      const bool have = it > 0;
-      const auto chk = iteration::check(c, rn, scale, have, have ? du.norm() : 0.0, (u - u_n).norm(),
-                                        have ? std::abs(du.dot(r)) : 0.0, e0);
+      const auto chk = solver_steps::check(c, it, rn, scale, du, r, (u - u_n).norm(), e0);
       if (chk.converged()) {
         if (!memory || decided) return rep;
         // Converged with the step's decisions: check them against the converged increment.
@@ -84,11 +82,8 @@ public:
         if (++resolves >= max_resolves_) free = true;
       }
       if (r0 < 0) r0 = rn;
-      if (it > 1 && rn > divergence_factor_ * std::max(r0, c.force_atol)) {
-        std::ostringstream m;
-        m << "Newton diverged: |R| = " << rn << " after " << it << " iterations (first |R| = " << r0 << ")";
-        return fail(rep, {Status::diverged, m.str()});
-      }
+      if (auto o = solver_steps::divergence("Newton", divergence_factor_, c, it, rn, r0); !o.ok())
+        return fail(rep, o);
       window.push_back(rn);
       if (stall_iterations_ > 0 && static_cast<int>(window.size()) > stall_iterations_) {
         const double before = window[window.size() - 1 - static_cast<std::size_t>(stall_iterations_)];
@@ -100,33 +95,17 @@ public:
           return fail(rep, {Status::not_converged, m.str()});
         }
       }
-      if (it >= c.max_iterations) {
-        std::ostringstream m;
-        m << "Newton did not converge in " << c.max_iterations << " iterations: |R| = " << rn << ", bound "
-          << iteration::force_bound(c, scale);
-        return fail(rep, {Status::not_converged, m.str()});
-      }
-      if (auto o = problem.linear_solver().factorize(k); !o.ok()) return fail(rep, o);
-      ++rep.factorizations;
-      if (auto o = problem.linear_solver().solve(r, du); !o.ok()) return fail(rep, o);
-      ++rep.iterations;
-      ++rep.solves;
+      if (auto o = solver_steps::iteration_limit("Newton", c, it, rn, scale); !o.ok()) return fail(rep, o);
+      if (auto o = solver_steps::correction(problem.linear_solver(), &k, r, du, rep); !o.ok())
+        return fail(rep, o);
       if (e0 < 0) e0 = std::abs(du.dot(r));
       // Backtracking: halve the correction while the residual grows (at most line_search times).
       // The full step is tried with the tangent, so an accepted full step is not evaluated twice.
-      const iteration::Backtrack b =
-          iteration::line_search(problem, u, du, req.lambda, rn, line_search_, r, &k);
-      du *= b.step;
-      u += du;
-      current = b.evaluated;
+      current = solver_steps::take_correction(problem, u, du, req.lambda, rn, line_search_, r, &k);
     }
   }
 
 private:
-  static StepReport& fail(StepReport& rep, Outcome o) {
-    rep.outcome = std::move(o);
-    return rep;
-  }
   double divergence_factor_;
   int line_search_;
   int stall_iterations_;
@@ -137,15 +116,7 @@ private:
 } // namespace
 
 STRATUM_PLUGIN(registry) {
-  Schema s;
-  s.real("divergence_factor", "-", "stop when |R| exceeds this multiple of the first residual")
-      .greater_than(1)
-      .defaults_to(1e6);
-  s.integer("line_search", "-",
-            "backtracking halvings allowed when a correction increases |R| (0: plain Newton)")
-      .at_least(0)
-      .at_most(30)
-      .defaults_to(0LL);
+  Schema s = solver_steps::newton_parameters("plain Newton");
   s.integer("stall_iterations", "-",
             "contraction test: stop (and let the step be cut back) when |R| has not fallen below "
             "stall_factor times its value this many iterations before; 0: off (only max_iterations)")

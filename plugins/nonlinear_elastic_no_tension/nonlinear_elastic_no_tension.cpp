@@ -2,8 +2,8 @@
 // once (stratum/parameters.hpp) and bound to its member (model in the header).
 #include "nonlinear_elastic_no_tension.hpp"
 
+#include "common/material_plugin.hpp"
 #include "stratum/parameters.hpp"
-#include "stratum/plugin.hpp"
 
 #include <memory>
 
@@ -34,12 +34,8 @@ stratum::Declared<ne::Constants> declare() {
 
 } // namespace
 
-STRATUM_PLUGIN(registry) {
-  registry.add(stratum::material_factory("nonlinear_elastic_no_tension",
-                                         "hypoelastic K_t = A p_a (p/p_a)^n, G_t = B p_a (p/p_a)^m (Hertz "
-                                         "type, (2.18)-(2.19)) with a principal-stress "
-                                         "tension cut-off",
-                                         declare(), [](const ne::Constants& c, const stratum::Params&) {
-                                           return std::make_unique<ne::NoTension>(c);
-                                         }));
-}
+STRATUM_MATERIAL_PLUGIN("nonlinear_elastic_no_tension",
+                        "hypoelastic K_t = A p_a (p/p_a)^n, G_t = B p_a (p/p_a)^m (Hertz "
+                        "type, (2.18)-(2.19)) with a principal-stress "
+                        "tension cut-off",
+                        declare(), stratum::material_plugin::from_input<ne::NoTension>)

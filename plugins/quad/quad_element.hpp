@@ -9,6 +9,8 @@
 
 #include "quad_math.hpp"
 
+#include "common/continuum_element.hpp"
+
 #include "stratum/element.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material_point.hpp"
@@ -181,22 +183,16 @@ public:
                                 const Constitutive& law, StateStore& states, std::size_t first_point,
                                 bool want_tangent, ElementResult& out) const override {
     const int n = check_cell(cell);
-    if (u.size() != 2 * n || u_n.size() != 2 * n)
-      throw Error("element " + std::to_string(cell.id) + ": displacement vector of size " +
-                  std::to_string(u.size()) + " for a " + std::to_string(n) + "-node quadrilateral");
-    if (law.material == nullptr)
-      return Outcome::failure(Status::material_failure,
-                              "element " + std::to_string(cell.id) +
-                                  ": the quad element needs a Material (none was given)");
+    continuum::require_plane_displacements(cell, u, u_n, n, "quadrilateral");
+    if (law.material == nullptr) return continuum::no_material(cell, "quad");
     return detail::with_node_count(n, [&](auto nn) {
       return compute_fixed<decltype(nn)::value>(cell, u, u_n, *law.material, states, first_point,
                                                 want_tangent, out);
     });
   }
 
-  /// Small-strain element: with a linear material its stiffness is the cell's constant B^T D B.
   [[nodiscard]] bool constant_stiffness(const Constitutive& law) const override {
-    return law.material != nullptr && law.material->is_linear();
+    return continuum::constant_stiffness(law);
   }
 
   /// Consistent nodal forces N^T b integrated with the element's rule. Throws
@@ -204,16 +200,9 @@ public:
   void body_force(const ElementData& cell, const Eigen::VectorXd& b, Eigen::VectorXd& f) const override {
     const int n = check_cell(cell);
     f.setZero(2 * n);
-    detail::with_node_count(n, [&](auto nn) {
-      constexpr int NN = decltype(nn)::value;
-      const Eigen::Matrix<double, NN, 2> X = *cell.x;
-      const auto& pts = rule_.points(cell.shape);
-      detail::PointGeometry<NN> g;
-      for (int i = 0; i < rule_.size(); ++i) {
-        if (!detail::evaluate<NN>(pts[static_cast<std::size_t>(i)], X, axisymmetric(), g))
-          throw Error(detail::point_message(cell.id, bad_geometry(), i));
-        for (int k = 0; k < NN; ++k) f.segment<2>(2 * k) += (g.N(k) * g.dV) * b;
-      }
+    each_point(cell, n, [&](int i, bool valid, const auto& g) {
+      if (!valid) throw Error(detail::point_message(cell.id, bad_geometry(), i));
+      for (int k = 0; k < g.N.size(); ++k) f.segment<2>(2 * k) += (g.N(k) * g.dV) * b;
     });
   }
 
@@ -233,24 +222,24 @@ public:
   void point_weights(const ElementData& cell, Eigen::VectorXd& w) const override {
     const int n = check_cell(cell);
     w.resize(rule_.size());
+    each_point(cell, n, [&](int i, bool, const auto& g) { w(i) = g.dV; });
+    continuum::normalize_weights(w);
+  }
+
+private:
+  /// Calls visit(i, valid, g) with the geometry g of every integration point i of the cell (n
+  /// nodes); valid is false where the Jacobian (or the radius) is not positive.
+  template <class Visit> void each_point(const ElementData& cell, int n, Visit&& visit) const {
     detail::with_node_count(n, [&](auto nn) {
       constexpr int NN = decltype(nn)::value;
       const Eigen::Matrix<double, NN, 2> X = *cell.x;
       const auto& pts = rule_.points(cell.shape);
       detail::PointGeometry<NN> g;
-      for (int i = 0; i < rule_.size(); ++i) {
-        detail::evaluate<NN>(pts[static_cast<std::size_t>(i)], X, axisymmetric(), g);
-        w(i) = g.dV;
-      }
+      for (int i = 0; i < rule_.size(); ++i)
+        visit(i, detail::evaluate<NN>(pts[static_cast<std::size_t>(i)], X, axisymmetric(), g), g);
     });
-    const double total = w.sum();
-    if (total > 0.0 && w.allFinite())
-      w /= total;
-    else
-      w.setConstant(1.0 / static_cast<double>(rule_.size()));
   }
 
-private:
   static Options validated(Options o) {
     if (o.integration < 2 || o.integration > max_rule)
       throw Error("quad element: integration must be 2, 3 or 4 (got " + std::to_string(o.integration) + ")");
@@ -367,9 +356,7 @@ private:
         }
       }
     }
-    out.force = f;
-    if (want_tangent) out.stiffness = K;
-    return Outcome::success();
+    return continuum::deliver(out, f, K, want_tangent);
   }
 
   using Phi = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, max_points, max_reduced>;

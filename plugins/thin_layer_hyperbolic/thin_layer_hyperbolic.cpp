@@ -3,8 +3,8 @@
 // thin_layer_hyperbolic.hpp (shared with the tests).
 #include "thin_layer_hyperbolic.hpp"
 
+#include "common/material_plugin.hpp"
 #include "stratum/parameters.hpp"
-#include "stratum/plugin.hpp"
 
 #include <memory>
 #include <string>
@@ -66,11 +66,8 @@ stratum::Declared<tl::Constants> declare() {
 
 } // namespace
 
-STRATUM_PLUGIN(registry) {
-  registry.add(stratum::material_factory(
-      "thin_layer_hyperbolic",
-      "Desai-Zaman thin-layer interface material: plane-strain elastic normal behaviour, hyperbolic "
-      "(Clough-Duncan) shear modulus (3.63)-(3.67)",
-      declare(),
-      [](const tl::Constants& c, const Params&) { return std::make_unique<tl::ThinLayerHyperbolic>(c); }));
-}
+STRATUM_MATERIAL_PLUGIN(
+    "thin_layer_hyperbolic",
+    "Desai-Zaman thin-layer interface material: plane-strain elastic normal behaviour, hyperbolic "
+    "(Clough-Duncan) shear modulus (3.63)-(3.67)",
+    declare(), stratum::material_plugin::from_input<tl::ThinLayerHyperbolic>)

@@ -10,6 +10,7 @@
 // as in the quad element and the framework's pressure loads.
 #pragma once
 
+#include "common/continuum_element.hpp"
 #include "stratum/element.hpp"
 #include "stratum/error.hpp"
 #include "stratum/material_point.hpp"
@@ -151,13 +152,8 @@ public:
                                 const Constitutive& law, StateStore& states, std::size_t first_point,
                                 bool want_tangent, ElementResult& out) const override {
     const int n = check_cell(cell);
-    if (u.size() != 2 * n || u_n.size() != 2 * n)
-      throw Error("element " + std::to_string(cell.id) + ": displacement vector of size " +
-                  std::to_string(u.size()) + " for a " + std::to_string(n) + "-node triangle");
-    if (law.material == nullptr)
-      return Outcome::failure(Status::material_failure, "element " + std::to_string(cell.id) + ": the " +
-                                                            name() +
-                                                            " element needs a Material (none was given)");
+    continuum::require_plane_displacements(cell, u, u_n, n, "triangle");
+    if (law.material == nullptr) return continuum::no_material(cell, name());
     const Material& material = *law.material;
     const bool axi = axisymmetric();
     const Eigen::MatrixXd& X = *cell.x;
@@ -187,14 +183,11 @@ public:
         K.noalias() += B.transpose() * (Dw * B);
       }
     }
-    out.force = f;
-    if (want_tangent) out.stiffness = K;
-    return Outcome::success();
+    return continuum::deliver(out, f, K, want_tangent);
   }
 
-  /// Small-strain element: with a linear material its stiffness is the cell's constant B^T D B.
   [[nodiscard]] bool constant_stiffness(const Constitutive& law) const override {
-    return law.material != nullptr && law.material->is_linear();
+    return continuum::constant_stiffness(law);
   }
 
   /// Consistent nodal forces N^T b integrated with the element's rule.
@@ -226,11 +219,7 @@ public:
       evaluate(table_[i], *cell.x, g);
       w(static_cast<Eigen::Index>(i)) = g.dV;
     }
-    const double total = w.sum();
-    if (total > 0.0 && w.allFinite())
-      w /= total;
-    else
-      w.setConstant(1.0 / static_cast<double>(table_.size()));
+    continuum::normalize_weights(w);
   }
 
 private:

@@ -22,6 +22,7 @@
 //                  [--no-write] [--keep] [--docs PATH] [--plugin-dir DIR] [--ccx PATH]
 // README.md in this folder describes what is timed and the columns.
 #include "cli.hpp"
+#include "cylinder_series.hpp"
 #include "docs_section.hpp"
 #include "machine.hpp"
 #include "stratum/analysis.hpp"
@@ -52,9 +53,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using namespace stratum::bench; // median, fixed, cpu_model, today_utc, ... (machine.hpp)
-
-using Clock = std::chrono::steady_clock;
+using namespace stratum::bench; // median, fixed, size_for, seconds_since, ... (machine.hpp,
+                                // cylinder_series.hpp)
 
 constexpr const char* begin_marker = "<!-- bench_ccx:begin -->";
 constexpr const char* end_marker = "<!-- bench_ccx:end -->";
@@ -155,21 +155,6 @@ struct Options {
   std::string ccx = "ccx";
 };
 
-struct Size {
-  double target = 0;
-  int nx = 0, ny = 0;
-};
-
-/// Free unknowns of an nx x nx/2 quad8 mesh with u_z fixed on top and bottom (the same count for the
-/// quarter ring with u_y fixed at theta = 0 and u_x at theta = 90 deg).
-long long free_dofs(long long nx) { return 3 * nx * nx + 2 * nx; }
-
-Size size_for(double target) {
-  int nx = 2;
-  while (static_cast<double>(free_dofs(nx)) < target) nx += 2;
-  return {target, nx, nx / 2};
-}
-
 /// Tresca as Mohr-Coulomb at phi -> 0: c = Y/2 and phi = psi = 1e-4 deg, which moves the strength
 /// by at most sin(phi) |sigma_m| / c < 2e-6 of it here (|sigma_m| < P_lim < 1.4 c).
 constexpr double tresca_phi = 1e-4;
@@ -202,10 +187,6 @@ std::string scene_text(const Spec& p, const Size& s, bool tresca = false) {
     << "[[loads]]\ntype = \"pressure\"\nedges = \"ring.left\"\np = " << p.pressure << "\n"
     << "[output]\nvtk = false\n";
   return t.str();
-}
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
 /// What both programs deliver: displacements of every node (r, z) and the mean stress
@@ -600,21 +581,6 @@ Row summarize(const Spec& p, const Size& s, const std::vector<Sample>& v) {
 
 double rel(double x, double ref) { return std::abs(x - ref) / std::abs(ref); }
 
-std::string sci(double v, int digits = 1) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*e", digits, v);
-  return buf;
-}
-
-std::string grouped(long long v) {
-  std::string s = std::to_string(v), out;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (i > 0 && (s.size() - i) % 3 == 0) out += ' ';
-    out += s[i];
-  }
-  return out;
-}
-
 /// Median Stratum time (s) of a row, from the medians of its parts.
 double stratum_median(const Row& r) { return r.med.build + r.med.run + r.med.write; }
 
@@ -912,8 +878,8 @@ int main(int argc, char** argv) {
                  opt.hill_repeat)
           .flag("--no-write", "do not update the docs file", opt.write, false)
           .flag("--keep", "keep the ccx input and output in the temporary directory", opt.keep)
-          .text("--docs", "PATH", "file to update (default <source>/docs/benchmarks.md)", opt.docs)
-          .text("--plugin-dir", "DIR", "plugins to load (default: the build tree's)", opt.plugin_dir)
+          .docs(opt.docs)
+          .plugin_dir(opt.plugin_dir)
           .text("--ccx", "PATH", "the CalculiX program (default: ccx on PATH)", opt.ccx);
   if (const int code = cli.parse(argc, argv); code >= 0) return code;
   if (!have_program(opt.ccx)) {

@@ -15,6 +15,7 @@
 #include "../../plugins/cam_clay/cam_clay.hpp"
 #include "../../plugins/mohr_coulomb/mohr_coulomb.hpp"
 #include "../../plugins/von_mises/von_mises.hpp"
+#include "cli.hpp"
 #include "docs_section.hpp"
 #include "stratum/plasticity/integrate.hpp"
 #include "stratum/plasticity/invariants.hpp"
@@ -50,6 +51,19 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 const std::array<pl::Scheme, 6> all_schemes = {pl::Scheme::forward_euler, pl::Scheme::modified_euler,
                                                pl::Scheme::trapezoidal,   pl::Scheme::midpoint,
                                                pl::Scheme::cutting_plane, pl::Scheme::closest_point};
+
+/// Runs `run` three times: its last result and the median of the three wall times (s).
+template <class Run> auto median_of_three_runs(Run&& run) {
+  std::array<double, 3> times{};
+  decltype(run()) result;
+  for (double& t : times) {
+    const auto t0 = std::chrono::steady_clock::now();
+    result = run();
+    t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  std::sort(times.begin(), times.end());
+  return std::pair{result, times[1]};
+}
 
 /// The settings used throughout: forward Euler without substeps (the step count is the knob),
 /// modified Euler with its default STOL = 1e-6, alpha = 0.5 for the generalised midpoint/trapezoidal.
@@ -309,18 +323,14 @@ std::string guidance(const std::vector<IsoSummary>& iso, const std::vector<McRow
 
 int run(int argc, char** argv) {
   bool write = true;
-  fs::path root = STRATUM_SOURCE_DIR;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--no-write")
-      write = false;
-    else if (a == "--root" && i + 1 < argc)
-      root = argv[++i];
-    else {
-      std::cerr << "usage: bench_integrators [--no-write] [--root DIR]\n";
-      return 2;
-    }
-  }
+  std::string root_dir = STRATUM_SOURCE_DIR;
+  const auto cli =
+      stratum::bench::Cli("bench_integrators")
+          .flag("--no-write", "do not update docs/benchmarks.md (the CSVs in docs/figures are written)",
+                write, false)
+          .text("--root", "DIR", "the source tree to write into (default: this one)", root_dir);
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
+  const fs::path root = root_dir;
   const fs::path figures = root / "docs" / "figures";
   fs::create_directories(figures);
 
@@ -350,16 +360,9 @@ int run(int argc, char** argv) {
   for (pl::Scheme s : all_schemes)
     for (int N : step_counts) {
       McRow row{s, N};
-      std::vector<double> times;
-      McRun r;
-      for (int rep = 0; rep < 3; ++rep) {
-        const auto t0 = std::chrono::steady_clock::now();
-        r = mcc_run(mcc, settings_for(s), N);
-        times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      }
-      std::sort(times.begin(), times.end());
+      const auto [r, time] = median_of_three_runs([&] { return mcc_run(mcc, settings_for(s), N); });
       row.ok = r.ok;
-      row.time = times[1];
+      row.time = time;
       row.yield_evaluations = r.counters.yield_evaluations;
       row.iterations = r.counters.iterations;
       if (r.ok) {
@@ -400,19 +403,12 @@ int run(int argc, char** argv) {
   mcsv << "scheme,steps,ok,err_sigma_ref,time_s,yield_evaluations\n";
   for (pl::Scheme s : all_schemes)
     for (int N : step_counts) {
-      std::vector<double> times;
-      MohrRun r;
-      for (int rep = 0; rep < 3; ++rep) {
-        const auto t0 = std::chrono::steady_clock::now();
-        r = mohr_run(mohr, settings_for(s), N);
-        times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      }
-      std::sort(times.begin(), times.end());
+      const auto [r, time] = median_of_three_runs([&] { return mohr_run(mohr, settings_for(s), N); });
       const double err = r.ok ? tnorm(r.sigma - mref.sigma) / tnorm(mref.sigma) : nan;
-      mrows.push_back({s, N, err, times[1], r.counters.yield_evaluations});
+      mrows.push_back({s, N, err, time, r.counters.yield_evaluations});
       mcsv << pl::to_string(s) << ',' << N << ',' << (r.ok ? 1 : 0) << ',' << fmt("%.6e", err) << ','
-           << fmt("%.6e", times[1]) << ',' << r.counters.yield_evaluations << '\n';
-      std::printf("%-15s %5d %11s %9.3f %10ld\n", pl::to_string(s), N, sci(err).c_str(), 1e3 * times[1],
+           << fmt("%.6e", time) << ',' << r.counters.yield_evaluations << '\n';
+      std::printf("%-15s %5d %11s %9.3f %10ld\n", pl::to_string(s), N, sci(err).c_str(), 1e3 * time,
                   r.counters.yield_evaluations);
     }
   if (!mcsv) throw std::runtime_error("cannot write mc_error_cost.csv");

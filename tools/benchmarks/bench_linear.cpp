@@ -11,6 +11,7 @@
 // Usage: bench_linear [--max-dof N] [--repeat K] [--no-write] [--docs PATH] [--plugin-dir DIR]
 // README.md in this folder describes the columns.
 #include "cli.hpp"
+#include "cylinder_series.hpp"
 #include "docs_section.hpp"
 #include "machine.hpp"
 #include "stratum/analysis.hpp"
@@ -37,9 +38,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using namespace stratum::bench; // median, fixed, cpu_model, today_utc, ... (machine.hpp)
-
-using Clock = std::chrono::steady_clock;
+using namespace stratum::bench; // median, fixed, size_for, seconds_since, ... (machine.hpp,
+                                // cylinder_series.hpp)
 
 constexpr double radius_a = 1.0, radius_b = 2.0, height = 0.5;
 constexpr double young = 1000.0, poisson = 0.3, pressure = 1.0;
@@ -63,23 +63,6 @@ struct Options {
   std::string plugin_dir = STRATUM_PLUGIN_DIR;
 };
 
-/// One mesh of the series: the requested size and the nx x ny cells reaching it.
-struct Size {
-  double target = 0;
-  int nx = 0, ny = 0;
-};
-
-/// Free unknowns of an nx x nx/2 quad8 mesh with u_z fixed on top and bottom:
-/// 2 (1.5 nx^2 + 3 nx + 1) DOF less 2 (2 nx + 1) constrained ones.
-long long free_dofs(long long nx) { return 3 * nx * nx + 2 * nx; }
-
-/// Smallest even nx (cells square: ny = nx / 2 over a 1 x 0.5 section) with at least `target` free DOF.
-Size size_for(double target) {
-  int nx = 2;
-  while (static_cast<double>(free_dofs(nx)) < target) nx += 2;
-  return {target, nx, nx / 2};
-}
-
 std::string scene_text(const Size& s) {
   std::ostringstream t;
   t.precision(17);
@@ -98,14 +81,6 @@ std::string scene_text(const Size& s) {
     << "[output]\nvtk = false\n";
   return t.str();
 }
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-/// CPU time of the whole process (all threads, user + system): unlike wall time it hardly
-/// grows when other processes compete for the cores.
-double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 /// Largest relative error of u_r over the nodes of the inner face r = a. `u` holds the
 /// free unknowns when `free` is true, else it is the full-size displacement.
@@ -243,22 +218,7 @@ std::string exact_text() {
   return buf;
 }
 
-std::string sci(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1e", v);
-  return buf;
-}
-
 /// 1234567 -> "1 234 567".
-std::string grouped(long long v) {
-  std::string s = std::to_string(v), out;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (i > 0 && (s.size() - i) % 3 == 0) out += ' ';
-    out += s[i];
-  }
-  return out;
-}
-
 /// A row of the table: the medians plus the medians of the compound figures.
 struct Measured {
   Row row;
@@ -363,8 +323,8 @@ int main(int argc, char** argv) {
                   opt.max_dof)
           .count("--repeat", "repetitions per size, medians reported (default 3)", opt.repeat)
           .flag("--no-write", "do not update the docs file", opt.write, false)
-          .text("--docs", "PATH", "file to update (default <source>/docs/benchmarks.md)", opt.docs)
-          .text("--plugin-dir", "DIR", "plugins to load (default: the build tree's)", opt.plugin_dir);
+          .docs(opt.docs)
+          .plugin_dir(opt.plugin_dir);
   if (const int code = cli.parse(argc, argv); code >= 0) return code;
   std::printf("bench_linear: Lame cylinder, axisymmetric quad8, 3x3 Gauss; %u cores (%s), "
               "OPENBLAS_NUM_THREADS=%s, load %s; median of %d; times in s\n",

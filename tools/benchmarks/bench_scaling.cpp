@@ -23,6 +23,7 @@
 //                      [--csv PATH] [--plugin-dir DIR]
 // README.md in this folder describes the columns.
 #include "cli.hpp"
+#include "cylinder_series.hpp"
 #include "docs_section.hpp"
 #include "machine.hpp"
 #include "stratum/analysis.hpp"
@@ -49,9 +50,8 @@
 
 namespace {
 
-using namespace stratum::bench; // median, fixed, cpu_model, today_utc, ... (machine.hpp)
-
-using Clock = std::chrono::steady_clock;
+using namespace stratum::bench; // median, fixed, size_for, seconds_since, ... (machine.hpp,
+                                // cylinder_series.hpp)
 
 constexpr double radius_a = 1.0, radius_b = 2.0, height = 0.5;
 // Elastic: the Lamé cylinder.
@@ -108,20 +108,6 @@ struct Options {
   std::string plugin_dir = STRATUM_PLUGIN_DIR;
 };
 
-struct Size {
-  double target = 0;
-  int nx = 0, ny = 0;
-};
-
-/// Free unknowns of an nx x nx/2 quad8 mesh with u_z fixed on top and bottom.
-long long free_dofs(long long nx) { return 3 * nx * nx + 2 * nx; }
-
-Size size_for(double target) {
-  int nx = 2;
-  while (static_cast<double>(free_dofs(nx)) < target) nx += 2;
-  return {target, nx, nx / 2};
-}
-
 std::string scene_text(Problem problem, const Size& s) {
   std::ostringstream t;
   t.precision(17);
@@ -148,13 +134,6 @@ std::string scene_text(Problem problem, const Size& s) {
     << "[output]\nvtk = false\n";
   return t.str();
 }
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-/// CPU time of the whole process (all threads, user + system).
-double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 /// Time spent in Material::update, accumulated by TimedMaterial; owned by one measurement.
 struct UpdateClock {
@@ -496,12 +475,6 @@ Fit fit(const std::vector<Row>& rows, Problem p, double Row::*field) {
   return f;
 }
 
-std::string sci(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1e", v);
-  return buf;
-}
-
 /// Seconds with three significant digits, in s or ms.
 std::string secs(double v) {
   char buf[64];
@@ -511,15 +484,6 @@ std::string secs(double v) {
   else
     std::snprintf(buf, sizeof buf, "%.3g s", v);
   return buf;
-}
-
-std::string grouped(long long v) {
-  std::string s = std::to_string(v), out;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (i > 0 && (s.size() - i) % 3 == 0) out += ' ';
-    out += s[i];
-  }
-  return out;
 }
 
 // ---- console
@@ -721,10 +685,10 @@ int main(int argc, char** argv) {
           .count("--repeat", "runs per size up to 3e5 DOF, medians reported (default 3)", opt.repeat)
           .count("--repeat-large", "runs per size above 3e5 DOF (default 1)", opt.repeat_large)
           .flag("--no-write", "do not update the docs file and the CSV", opt.write, false)
-          .text("--docs", "PATH", "file to update (default <source>/docs/benchmarks.md)", opt.docs)
+          .docs(opt.docs)
           .text("--csv", "PATH",
                 "CSV for tools/plot_scaling.py (default <source>/docs/figures/bench_scaling.csv)", opt.csv)
-          .text("--plugin-dir", "DIR", "plugins to load (default: the build tree's)", opt.plugin_dir);
+          .plugin_dir(opt.plugin_dir);
   if (const int code = cli.parse(argc, argv); code >= 0) return code;
   const double clock_read = clock_read_seconds();
   std::printf("bench_scaling: thick cylinder, axisymmetric quad8, 3x3 Gauss; %u cores (%s), "

@@ -8,6 +8,7 @@
 // test's (foot 6 x 12, side 8 x 12 cells).
 //
 // Usage: bench_solvers [--no-write] [--docs PATH] [--plugin-dir DIR]
+#include "cli.hpp"
 #include "docs_section.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/error.hpp"
@@ -94,21 +95,13 @@ Row run(const std::string& name, const std::string& analysis, const std::string&
 
 int main(int argc, char** argv) {
   bool write = true;
-  fs::path docs = fs::path(STRATUM_SOURCE_DIR) / "docs" / "benchmarks.md";
+  std::string docs = (fs::path(STRATUM_SOURCE_DIR) / "docs" / "benchmarks.md").string();
   std::string plugin_dir = STRATUM_PLUGIN_DIR;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--no-write")
-      write = false;
-    else if (a == "--docs" && i + 1 < argc)
-      docs = argv[++i];
-    else if (a == "--plugin-dir" && i + 1 < argc)
-      plugin_dir = argv[++i];
-    else {
-      std::cerr << "usage: bench_solvers [--no-write] [--docs PATH] [--plugin-dir DIR]\n";
-      return 2;
-    }
-  }
+  const auto cli = stratum::bench::Cli("bench_solvers")
+                       .flag("--no-write", "do not update the docs file", write, false)
+                       .docs(docs)
+                       .plugin_dir(plugin_dir);
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
   const double q_lim = (2 + std::numbers::pi) * 100.0;
   const double p = 0.9 * q_lim;
   const std::string load = "increments = [0.5, 0.04]\nmax_cutbacks = 4";

@@ -29,7 +29,9 @@ import time
 import tomllib
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_pile import ROOT, table, write_section  # noqa: E402
+
 STUDY = ROOT / "tools" / "benchmarks" / "sweep_pile.toml"
 
 
@@ -52,32 +54,9 @@ def timed(cmd, **kw):
     return wall, p.stdout
 
 
-def table(head, rows):
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
-    text = "\n".join(lines)
-    print(text, flush=True)
-    return text
-
-
 def sample_seconds(out, column="seconds"):
     with open(out / "timings.csv", newline="") as f:
         return [float(r[column]) for r in csv.DictReader(f)]
-
-
-def write_section(parts):
-    docs = ROOT / "docs" / "benchmarks.md"
-    old = docs.read_text()
-    begin, end = "<!-- bench_sweep:begin -->", "<!-- bench_sweep:end -->"
-    block = f"{begin}\n" + "\n".join(parts) + f"\n{end}"
-    if begin in old:
-        new = old[: old.index(begin)] + block + old[old.index(end) + len(end):]
-    else:
-        new = old.rstrip("\n") + "\n\n" + block + "\n"
-    tmp = docs.with_suffix(".md.tmp")
-    tmp.write_text(new)
-    tmp.replace(docs)
-    print(f"wrote {docs}", flush=True)
 
 
 def main():
@@ -177,8 +156,7 @@ def main():
         ]
         print(md[-2], flush=True)
     shutil.rmtree(work, ignore_errors=True)
-    if not a.no_write:
-        write_section(md)
+    write_section(md, [], a.no_write, name="bench_sweep")
 
 
 if __name__ == "__main__":

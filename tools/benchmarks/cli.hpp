@@ -49,6 +49,15 @@ public:
     return *this;
   }
 
+  /// --docs PATH: the file whose section the program rewrites.
+  Cli& docs(std::string& path) {
+    return text("--docs", "PATH", "file to update (default <source>/docs/benchmarks.md)", path);
+  }
+  /// --plugin-dir DIR: where the program loads the plugins from.
+  Cli& plugin_dir(std::string& dir) {
+    return text("--plugin-dir", "DIR", "plugins to load (default: the build tree's)", dir);
+  }
+
   void usage(std::ostream& os) const {
     std::string line = "usage: " + program_;
     const std::string indent(line.size(), ' ');

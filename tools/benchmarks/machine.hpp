@@ -1,5 +1,5 @@
 // What every benchmark program prints beside its figures: the machine (processor, load, peak
-// memory, environment), the date, and the two small formatting helpers its tables use.
+// memory, environment), the date, and the small formatting helpers its tables use.
 #pragma once
 
 #include <algorithm>
@@ -65,6 +65,23 @@ inline std::string fixed(double v, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   return buf;
+}
+
+/// `v` in scientific notation with `digits` decimals ("1.2e-05").
+inline std::string sci(double v, int digits = 1) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*e", digits, v);
+  return buf;
+}
+
+/// An integer with its digits in groups of three, separated by spaces ("1 234 567").
+inline std::string grouped(long long v) {
+  std::string s = std::to_string(v), out;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (i > 0 && (s.size() - i) % 3 == 0) out += ' ';
+    out += s[i];
+  }
+  return out;
 }
 
 /// Now, as "YYYY-MM-DD HH:MM UTC".
