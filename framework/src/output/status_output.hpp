@@ -10,7 +10,7 @@
 //   field data   "interface_status_names"   the codes of "interface_status" (stick, slip,
 //                                           open), when the model has interfaces
 //
-// Header only: called from Analysis::Impl::write_step (analysis.cpp) with the same traversal
+// Header only: called from write_step (output/write_step.cpp) with the same traversal
 // of active cells and points as the other integration-point fields.
 #pragma once
 
