@@ -7,12 +7,6 @@
 #include "scene/toml_check.hpp"
 #include "stages/builtin_actions.hpp"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
-namespace fs = std::filesystem;
-
 namespace stratum {
 
 void register_builtin_factories(Registry& registry) {

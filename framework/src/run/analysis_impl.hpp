@@ -45,7 +45,7 @@ struct Analysis::Impl {
   /// data's head load and settlement (nothing when it monitors no head).
   void record_pile(const PileObservation& o, RunSummary& summary);
   /// Writes the tables (when the run writes output) and notes when.
-  void write_tables(const RunSummary& summary, const std::vector<StepRecord>& live);
+  void update_tables(const RunSummary& summary, const std::vector<StepRecord>& live);
 };
 
 } // namespace stratum

@@ -21,8 +21,8 @@ const char* stop_reason_name(StopReason reason) {
 RunSummary Analysis::run() {
   const auto t_run = std::chrono::steady_clock::now();
   Impl& s = *impl_;
-  Model& m = s.sm.model;
   SceneModel& sm = s.sm;
+  Model& m = sm.model;
   RunSummary summary;
   summary.out_dir =
       s.options.out_dir.empty() ? (fs::path("out") / fs::path(s.path).stem()).string() : s.options.out_dir;
@@ -79,7 +79,7 @@ RunSummary Analysis::run() {
   for (std::size_t k = first; k < sm.stages.size(); ++k) {
     const bool go_on = s.run_stage(k, summary, writer.get());
     if (!summary.outcome.ok()) break;
-    if (go_on && k + 1 < sm.stages.size()) timed(summary.times.output, [&] { s.write_tables(summary, {}); });
+    if (go_on && k + 1 < sm.stages.size()) timed(summary.times.output, [&] { s.update_tables(summary, {}); });
     summary.stages_done = static_cast<int>(k + 1);
     if (sm.stages[k].checkpoint && s.options.write_output && go_on) {
       const auto t_ckpt = std::chrono::steady_clock::now();
@@ -118,7 +118,7 @@ RunSummary Analysis::run() {
     summary.pvd = writer->pvd_path();
   }
   const auto t_out = std::chrono::steady_clock::now();
-  s.write_tables(summary, {});
+  s.update_tables(summary, {});
   summary.checks = evaluate_checks(s.checks, s.recorders);
   if (s.options.write_output) write_summary(summary, s.path, sm.stages.size());
   summary.times.output += seconds_since(t_out);

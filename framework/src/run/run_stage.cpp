@@ -184,7 +184,7 @@ void Analysis::Impl::record_stage_loads(const std::vector<LoadSpec>& before) {
     if (!named(loads, l.name)) stage_loads.push_back({l.name, -1, resultant(l)});
 }
 
-void Analysis::Impl::write_tables(const RunSummary& summary, const std::vector<StepRecord>& live) {
+void Analysis::Impl::update_tables(const RunSummary& summary, const std::vector<StepRecord>& live) {
   if (options.write_output) stratum::write_tables(view(), summary, recorders, live);
   last_tables = std::chrono::steady_clock::now();
 }
@@ -255,7 +255,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     live.push_back(rec);
     live.back().stage = static_cast<int>(k) + 1;
     if (seconds_since(last_tables) >= settings.tables_every)
-      timed(summary.times.output, [&] { write_tables(summary, live); });
+      timed(summary.times.output, [&] { update_tables(summary, live); });
   };
   bool settled = false, interrupted = false;
   const bool watch = pile.watches_settlement();

@@ -8,8 +8,6 @@
 #include "stratum/error.hpp"
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace fs = std::filesystem;
 

@@ -16,12 +16,10 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <numbers>
 #include <set>
-#include <sstream>
 
 namespace fs = std::filesystem;
 
