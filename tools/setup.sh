@@ -14,7 +14,7 @@ STRATUM_PACKAGES=(cmake ninja-build g++ gfortran pkg-config libeigen3-dev libboo
   libsundials-dev libtomlplusplus-dev catch2 libsuitesparse-dev libopenblas0-pthread python3-matplotlib python3-vtk9
   libopenmpi-dev openmpi-bin
   clang libclang-rt-14-dev llvm # tools/ci_sanitize: sanitizers, libFuzzer, llvm-symbolizer for the reports
-  clang-format clang-tidy git   # tools/check_format, tools/check_tidy (docs/testing.md, "Style and tidy checks")
+  clang-format clang-tidy-22 git # tools/check_format, tools/check_tidy (docs/testing.md, "Style and tidy checks")
   ${STRATUM_EXTRA_PACKAGES:-})
 
 stratum_install_packages() {
