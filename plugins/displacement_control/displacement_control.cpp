@@ -9,6 +9,7 @@
 // Where the controlled displacement cannot grow (a snap-back turning point) the
 // step does not converge and comes back as a status.
 #include "common/solver_steps.hpp"
+#include "stratum/model.hpp"
 #include "stratum/plugin.hpp"
 
 #include <cmath>
@@ -21,10 +22,42 @@ using solver_steps::fail;
 class DisplacementControl final : public Solver {
 public:
   explicit DisplacementControl(const Params& p)
-      : nodes_(p.text("nodes")), component_(p.text("component") == "x" ? 0 : 1), dof_(p.integer("dof")),
-        increment_(p.real("increment")) {}
+      : p_(p), nodes_(p.text("nodes")), component_(p.text("component") == "x" ? 0 : 1),
+        dof_(p.integer("dof")), increment_(p.real("increment")) {
+    if (increment_ == 0.0)
+      throw Error(p.where("increment"), "displacement_control increment = 0 would never move the controlled "
+                                        "displacement; give its change per step (m), its sign the direction");
+    if (!nodes_.empty() && p.where("dof").known())
+      throw Error(p.where("dof"), "displacement_control: give nodes or dof, not both");
+  }
 
   [[nodiscard]] bool path_following() const override { return true; }
+
+  void check(const SolverCheck& stage) const override {
+    const Model& m = stage.model;
+    if (!nodes_.empty()) {
+      if (!m.mesh.node_sets.count(nodes_)) {
+        std::string known;
+        for (const auto& [name, set] : m.mesh.node_sets) known += (known.empty() ? "" : ", ") + name;
+        throw Error(p_.where("nodes"),
+                    "displacement_control nodes = \"" + nodes_ +
+                        "\" is not a node set of the mesh; node sets: " + (known.empty() ? "(none)" : known));
+      }
+      if (m.node_set_free_dofs(nodes_, component_).empty())
+        throw Error(p_.where("nodes"), stage.context + ": displacement_control nodes = \"" + nodes_ +
+                                           "\" has no free " + (component_ ? "y" : "x") +
+                                           " displacement (all held by constraints, or on no active cell)");
+      return;
+    }
+    if (dof_ < 0)
+      throw Error(p_.where("increment"),
+                  "displacement_control needs nodes = \"<node set>\" (or dof = <index of a free unknown>)");
+    if (dof_ >= m.dofs.free_count)
+      throw Error(p_.where("dof"), stage.context + ": displacement_control dof = " + std::to_string(dof_) +
+                                       " is not a free unknown; allowed: 0 to " +
+                                       std::to_string(m.dofs.free_count - 1) +
+                                       " (better: nodes = a node set)");
+  }
 
   StepReport solve(NonlinearProblem& problem, const StepRequest& req, Eigen::VectorXd& u) const override {
     StepReport rep;
@@ -105,6 +138,7 @@ private:
     ++rep.solves;
     return ls.solve(f, uf);
   }
+  Params p_; ///< for the locations of check()'s messages
   std::string nodes_;
   int component_;
   long long dof_;

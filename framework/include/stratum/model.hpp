@@ -105,6 +105,9 @@ struct Model {
   /// Free unknowns of a full-size vector.
   [[nodiscard]] Eigen::VectorXd restrict_free(const Eigen::VectorXd& full) const;
   [[nodiscard]] bool symmetric() const;
+  /// The free unknowns (indices into the free vector) of field `field` at the nodes of the node
+  /// set `set`; empty when the mesh has no such set or none of its nodes has a free one.
+  [[nodiscard]] std::vector<Eigen::Index> node_set_free_dofs(const std::string& set, int field) const;
 };
 
 /// Assembles internal forces and the tangent over the free DOFs. The sparsity

@@ -17,6 +17,15 @@
 
 namespace stratum {
 
+struct Model;
+
+/// What a solver may check before anything runs: a stage's model as it will be when the stage
+/// starts (its actions applied, its DOFs numbered: stratum/model.hpp).
+struct SolverCheck {
+  const Model& model;
+  std::string context; ///< `stage "name"`, to begin messages with
+};
+
 class NonlinearProblem {
 public:
   virtual ~NonlinearProblem() = default;
@@ -102,6 +111,10 @@ public:
   /// True for solvers that choose the load factor themselves (arc length, displacement control):
   /// the step controller passes StepRequest::arc_length and reads StepReport::lambda.
   [[nodiscard]] virtual bool path_following() const { return false; }
+  /// Called for every stage while the scene is built (so by `stratum check` too): throws a
+  /// located Error (Params::where) for a parameter that cannot work in that stage, e.g. a node
+  /// set the mesh lacks. Default: nothing to check.
+  virtual void check(const SolverCheck& stage) const { (void)stage; }
 };
 
 } // namespace stratum

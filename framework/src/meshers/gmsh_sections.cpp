@@ -111,6 +111,14 @@ void read_physical_names(Lexer& lx, GmshFile& f) {
       lx.fail(name, "expected a quoted physical name, found '" + std::string(name.text) + "'");
     std::string text(name.text.substr(1, name.text.size() - 2));
     if (text.empty()) text = "physical_" + std::to_string(tag);
+    if (f.names.count({dim, tag}))
+      lx.fail(at, "physical group " + std::to_string(tag) + " of dimension " + std::to_string(dim) +
+                      " is named twice; each (dimension, tag) pair has one name");
+    for (const auto& [key, other] : f.names)
+      if (key.first == dim && other.name == text)
+        lx.fail(name, "the physical name \"" + text + "\" is given to groups " + std::to_string(key.second) +
+                          " and " + std::to_string(tag) + " of dimension " + std::to_string(dim) +
+                          "; the scene would act on both under one name: rename one in Gmsh");
     f.names[{dim, tag}] = {std::move(text), at};
   }
   lx.expect("$EndPhysicalNames");

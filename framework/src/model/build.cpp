@@ -22,6 +22,7 @@ void SceneModel::build(scene::Scene& sc) {
   build_scene_interfaces(sc, model, interfaces);
   build_constraints(sc);
   build_stages(sc);
+  rehearse_stages();
 
   // What a checkpoint must match: mesh size, domain layout, stage names.
   std::ostringstream fp;

@@ -5,9 +5,11 @@
 #include "stratum/mesh_io.hpp"
 #include "suggest.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <numeric>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -35,6 +37,70 @@ void SceneModel::unused_physical_groups(const std::set<std::string>& named, cons
   warnings.push_back(o.str());
 }
 
+namespace {
+
+/// Joins the nodes that a mapping put at one place (the seam of a polar ring): cells, node and
+/// edge sets then refer to the first of them. A cell two of whose own nodes meet (a ring that
+/// starts at radius 0) is refused.
+void join_coincident_nodes(Mesh& mesh, const SourceLocation& at) {
+  const std::size_t nn = mesh.nodes.size();
+  if (nn == 0) return;
+  Eigen::Vector2d lo = mesh.nodes[0], hi = mesh.nodes[0];
+  for (const auto& x : mesh.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  const double tol = 1e-9 * std::max((hi - lo).norm(), 1e-300);
+  std::vector<int> order(nn);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return mesh.nodes[static_cast<std::size_t>(a)].x() < mesh.nodes[static_cast<std::size_t>(b)].x();
+  });
+  std::vector<int> to(nn);
+  std::iota(to.begin(), to.end(), 0);
+  bool any = false;
+  for (std::size_t i = 0; i < nn; ++i) {
+    const auto a = static_cast<std::size_t>(order[i]);
+    for (std::size_t j = i + 1; j < nn; ++j) {
+      const auto b = static_cast<std::size_t>(order[j]);
+      if (mesh.nodes[b].x() - mesh.nodes[a].x() > tol) break;
+      if ((mesh.nodes[b] - mesh.nodes[a]).norm() <= tol &&
+          to[std::max(a, b)] == static_cast<int>(std::max(a, b))) {
+        to[std::max(a, b)] = to[std::min(a, b)];
+        any = true;
+      }
+    }
+  }
+  if (!any) return;
+  std::vector<int> index(nn, -1);
+  std::vector<Eigen::Vector2d> kept;
+  for (std::size_t n = 0; n < nn; ++n)
+    if (to[n] == static_cast<int>(n)) index[n] = static_cast<int>(kept.size()), kept.push_back(mesh.nodes[n]);
+  const auto map = [&](int n) {
+    return n < 0 ? n : index[static_cast<std::size_t>(to[static_cast<std::size_t>(n)])];
+  };
+  for (std::size_t c = 0; c < mesh.cells.size(); ++c) {
+    auto& nodes = mesh.cells[c].nodes;
+    for (int& n : nodes) n = map(n);
+    std::vector<int> corners;
+    for (int n : nodes)
+      if (n >= 0) corners.push_back(n);
+    std::sort(corners.begin(), corners.end());
+    if (std::adjacent_find(corners.begin(), corners.end()) != corners.end())
+      throw Error(at,
+                  "[mesh] transform = \"polar\": cell " + std::to_string(c) +
+                      " collapses (two of its nodes map to one point, as at radius 0); start the ring at a "
+                      "radius > 0");
+  }
+  for (auto& [name, set] : mesh.node_sets) {
+    for (int& n : set) n = map(n);
+    std::sort(set.begin(), set.end());
+    set.erase(std::unique(set.begin(), set.end()), set.end());
+  }
+  for (auto& [name, edges] : mesh.edge_sets)
+    for (Edge& e : edges) e.a = map(e.a), e.b = map(e.b), e.mid = map(e.mid);
+  mesh.nodes = std::move(kept);
+}
+
+} // namespace
+
 void SceneModel::build_mesh(const scene::Scene& sc) {
   const scene::MeshSpec& spec = sc.mesh;
   switch (spec.source) {
@@ -52,11 +118,14 @@ void SceneModel::build_mesh(const scene::Scene& sc) {
         }
       throw Error(at, "[mesh] " + e.message());
     }
-    if (spec.polar)
+    if (spec.polar) {
       for (auto& x : model.mesh.nodes) {
         const double r = x.x(), t = x.y() * std::numbers::pi / 180.0;
         x = Eigen::Vector2d(r * std::cos(t), r * std::sin(t));
       }
+      // A ring over 360 degrees meets itself: its seam's nodes are one.
+      join_coincident_nodes(model.mesh, spec.at);
+    }
     break;
   case scene::MeshSpec::Source::generator: {
     const auto mesher = spec.mesher.create();

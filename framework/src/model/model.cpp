@@ -149,6 +149,16 @@ void Model::rebuild_dofs() {
   dofs.build(fixed);
 }
 
+std::vector<Eigen::Index> Model::node_set_free_dofs(const std::string& set, int field) const {
+  std::vector<Eigen::Index> v;
+  const auto it = mesh.node_sets.find(set);
+  if (it == mesh.node_sets.end() || field < 0 || field >= static_cast<int>(dofs.fields.size())) return v;
+  for (int n : it->second)
+    if (const int d = dofs.dof(n, field); d >= 0)
+      if (const int e = dofs.eq[static_cast<std::size_t>(d)]; e >= 0) v.push_back(e);
+  return v;
+}
+
 bool Model::symmetric() const {
   for (const auto& dm : domains) {
     if (dm.law.material && !dm.law.material->symmetric_tangent()) return false;

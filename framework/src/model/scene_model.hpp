@@ -69,6 +69,9 @@ private:
   void build_domains(const scene::Scene& scene);
   void build_constraints(const scene::Scene& scene);
   void build_stages(scene::Scene& scene);
+  /// The stages' actions on a copy of the model, nothing solved (model/rehearse_stages.cpp):
+  /// located errors for what would fail when a stage starts, warnings for loads partly dropped.
+  void rehearse_stages();
   bool library_parts_added_ = false;
 };
 

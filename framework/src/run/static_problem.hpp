@@ -40,15 +40,7 @@ public:
     return std::max((m_.load_base + lambda * m_.load_ref).norm(), fint_.size() ? fint_.norm() : 0.0);
   }
   std::vector<Eigen::Index> node_set_dofs(const std::string& set, int component) const override {
-    std::vector<Eigen::Index> v;
-    auto it = m_.mesh.node_sets.find(set);
-    if (it == m_.mesh.node_sets.end() || component < 0 ||
-        component >= static_cast<int>(m_.dofs.fields.size()))
-      return v;
-    for (int n : it->second)
-      if (const int d = m_.dofs.dof(n, component); d >= 0)
-        if (const int e = m_.dofs.eq[static_cast<std::size_t>(d)]; e >= 0) v.push_back(e);
-    return v;
+    return m_.node_set_free_dofs(set, component);
   }
   bool renew_decisions() override {
     bool any = false;

@@ -3,6 +3,7 @@
 #include "scene/plugin_table.hpp"
 #include "scene/scene.hpp"
 #include "scene/schemas.hpp"
+#include "scene/tables.hpp"
 #include "scene/toml_check.hpp"
 #include "suggest.hpp"
 
@@ -64,6 +65,7 @@ void scene::read_interfaces(const toml::table& root, PluginCatalog& catalog, Reg
     if (const auto* v = t->get("name")) {
       if (!v->is_string()) throw Error(location(*v), ctx + " name must be a string");
       f.name = v->as_string()->get();
+      scene::require_file_name(f.name, location(*v), ctx, "name");
     }
     if (const auto* v = t->get("cells")) {
       if (!v->is_string()) throw Error(location(*v), ctx + " cells must be a string (a cell set)");

@@ -56,6 +56,7 @@ scene::StageSpec read_stage(const toml::table& t, const std::string& ctx, const 
   scene::StageSpec spec;
   stage::Stage& st = spec.settings;
   st.name = p.text("name");
+  scene::require_file_name(st.name, p.where("name"), ctx, "name");
   st.where = location(t);
   st.steps = static_cast<int>(p.integer("steps"));
   st.increments = p.real_list("increments");

@@ -1,6 +1,7 @@
 #include "scene/recorder_spec.hpp"
 
 #include "scene/schemas.hpp"
+#include "scene/tables.hpp"
 #include "scene/toml_check.hpp"
 #include "suggest.hpp"
 
@@ -55,9 +56,7 @@ RecorderSpec read_recorder(const toml::table& t, const std::string& ctx, const U
   r.set = p.text("set");
   r.set_at = p.where("set");
   r.at_at = p.where("at");
-  if (r.name.empty() || r.name.find_first_of("/\\ ") != std::string::npos || r.name[0] == '.')
-    throw Error(p.where("name"), ctx + " name = \"" + r.name +
-                                     "\" must be a plain file name (no '/', '\\', spaces or leading '.')");
+  scene::require_file_name(r.name, p.where("name"), ctx, "name");
   const auto& at = p.real_list("at");
   const bool needs_at = r.kind == "node" || r.kind == "point";
   if (needs_at && at.size() != 2)

@@ -386,7 +386,10 @@ void write_scene_reference_markdown(std::ostream& out, const Registry& reg) {
          "allowed values, default (or *required*) and meaning. `stratum describe SECTION` prints the\n"
          "same on the terminal. Materials, elements and contact laws are plugins with their own\n"
          "parameters: `stratum plugins --describe NAME`. Units: kN, m, kPa unless the scene's [units]\n"
-         "declare others (the units and defaults below are in kN, m, kPa); tension positive.\n\n";
+         "declare others (the units and defaults below are in kN, m, kPa); tension positive. Besides\n"
+         "its range, every number may be at most 1e20 in magnitude (products of larger ones overflow).\n"
+         "Names that the output uses in file names (stages, recorders, interfaces) may use letters,\n"
+         "digits, `_`, `-`, `.` and `+` (at most 64, not starting with `.`).\n\n";
   const auto all = sections(&reg);
   for (const auto& s : all)
     out << "- [`" << s.info.header << "`](#" << s.info.name << "): " << md_text(s.info.summary) << "\n";

@@ -56,6 +56,9 @@ double number(const toml::node& n) {
 
 namespace {
 
+/// The largest magnitude of a real number in a scene (check_table).
+constexpr double largest_real = 1e20;
+
 std::string expected(const ParamSpec& s) {
   static constexpr std::array<const char*, 5> names{"a number", "an integer", "true or false", "a string",
                                                     "an array of numbers (or one number)"};
@@ -156,11 +159,21 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
       if (!std::isfinite(x) || !s.in_range(x))
         throw Error(where, context + " " + s.name + " = " + show(*v) + " is outside " + s.allowed());
     };
+    // Beyond the declared range, a bound for every real number: stiffnesses, forces and lengths
+    // are multiplied together, and a value near the largest double (E = 1e308) overflows into
+    // a NaN long after the scene was read.
+    auto check_magnitude = [&](double x, const toml::node& at) {
+      if (std::abs(x) > largest_real)
+        throw Error(location(at),
+                    context + " " + s.name + " = " + show(at) + " is larger in magnitude than " +
+                        "1e20, the largest number a scene may give (products of such numbers overflow)");
+    };
     switch (s.type) {
     case ParamType::real: {
       if (!v->is_number()) wrong_type(*v, context, s);
       const double x = number(*v);
       check_number(x);
+      check_magnitude(x, *v);
       p.set(s.name, x, where);
       break;
     }
@@ -194,6 +207,7 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
         const double x = number(*v);
         if (!std::isfinite(x) || !s.in_range(x))
           throw Error(location(*v), context + " " + s.name + " = " + show(*v) + " is outside " + s.allowed());
+        check_magnitude(x, *v);
         p.set(s.name, std::vector<double>{x}, where);
         break;
       }
@@ -205,6 +219,7 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
         if (!std::isfinite(x) || !s.in_range(x))
           throw Error(location(e),
                       context + " " + s.name + " contains " + show(e) + ", outside " + s.allowed());
+        check_magnitude(x, e);
         xs.push_back(x);
       }
       p.set(s.name, std::move(xs), where);
