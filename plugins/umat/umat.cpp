@@ -57,6 +57,8 @@ std::unique_ptr<stratum::Material> create(const Params& p) {
   s.nstatv = static_cast<int>(p.integer("nstatv"));
   s.celent = p.real("celent");
   s.stage_time = p.real("stage_time");
+  s.nstatv_at = p.where("nstatv").str();
+  s.props_at = p.where("props").str();
   s.symmetric = p.flag("symmetric_tangent");
   s.thread_safe = p.flag("thread_safe");
 

@@ -153,6 +153,7 @@ struct Settings {
   double stage_time = 1.0;               ///< the UMAT's time per unit of pseudo-time (one stage)
   bool symmetric = false;                ///< the tangent is symmetric (Cholesky) or not (LU)
   bool thread_safe = false;              ///< false: one call at a time (a mutex)
+  std::string nstatv_at, props_at;       ///< "file:line:col" of nstatv and props in the scene, or ""
 };
 
 /// Guard values after the declared STATEV and PROPS (README.md, "Guards"): guard_size doubles
@@ -322,14 +323,14 @@ private:
       if (bits(statev[i]) != statev_guard)
         return fail(in, Status::fatal,
                     "the UMAT wrote STATEV(" + std::to_string(i + 1) +
-                        ") past NSTATV = " + std::to_string(ns) + "; set nstatv = " + std::to_string(i + 1) +
-                        " (or what the UMAT documents)");
+                        ") past NSTATV = " + std::to_string(ns) + at(s_.nstatv_at) +
+                        "; set nstatv = " + std::to_string(i + 1) + " (or what the UMAT documents)");
     for (std::size_t i = np + guard_size; i-- > np;)
       if (bits(props[i]) != props_guard)
         return fail(in, Status::fatal,
                     "the UMAT wrote PROPS(" + std::to_string(i + 1) +
-                        ") past NPROPS = " + std::to_string(np) + "; give props " + std::to_string(i + 1) +
-                        " values (or what the UMAT documents)");
+                        ") past NPROPS = " + std::to_string(np) + at(s_.props_at) + "; give props " +
+                        std::to_string(i + 1) + " values (or what the UMAT documents)");
 
     if (pnewdt < 1.0)
       return fail(in, Status::material_failure,
@@ -338,7 +339,7 @@ private:
       if (from_props_guard(v))
         return fail(in, Status::fatal,
                     "the UMAT returned a non-finite " + what +
-                        " computed from a PROPS entry past NPROPS = " + std::to_string(np) +
+                        " computed from a PROPS entry past NPROPS = " + std::to_string(np) + at(s_.props_at) +
                         " (they hold NaN): it reads more PROPS than given; give them all");
       return fail(in, Status::non_finite,
                   "the UMAT returned a non-finite " + what +
@@ -372,6 +373,9 @@ private:
                             0.5 * e[voigt::zx], 0.5 * e[voigt::yz], 1 + e[voigt::zz]};
     return F;
   }
+
+  /// " (scene.toml:12:1)" for a known place of a scene key, "" otherwise.
+  static std::string at(const std::string& where) { return where.empty() ? where : " (" + where + ")"; }
 
   static std::string number(double v) {
     char buf[32];

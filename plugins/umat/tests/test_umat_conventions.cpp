@@ -247,7 +247,9 @@ TEST_CASE("umat: a UMAT writing past NSTATV or NPROPS ends stratum run with one 
   CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
   CHECK(r.err.find("fatal error") != std::string::npos);
   CHECK(r.err.find("(element 0, point 0; NOEL 1, NPT 1)") != std::string::npos);
-  CHECK(r.err.find("the UMAT wrote STATEV(9) past NSTATV = 1; set nstatv = 9") != std::string::npos);
+  // Located: the scene's nstatv line (line 16 of probe_scene, after "nstatv = ").
+  CHECK(r.err.find("the UMAT wrote STATEV(9) past NSTATV = 1 (" + statev.string() +
+                   ":16:10); set nstatv = 9") != std::string::npos);
 
   // PROPS: two given, the UMAT writes PROPS(3..5).
   const fs::path props = write_scene("overprops.toml", probe_scene("overprops", 0));
@@ -255,7 +257,8 @@ TEST_CASE("umat: a UMAT writing past NSTATV or NPROPS ends stratum run with one 
   INFO(p.err);
   CHECK((p.code == 1 || p.code == 2));
   CHECK(std::count(p.err.begin(), p.err.end(), '\n') == 1);
-  CHECK(p.err.find("the UMAT wrote PROPS(5) past NPROPS = 2; give props 5 values") != std::string::npos);
+  CHECK(p.err.find("the UMAT wrote PROPS(5) past NPROPS = 2 (" + props.string() +
+                   ":15:9); give props 5 values") != std::string::npos);
 
   // In-process: the run stops at once (no cut-back), the status says it is no numerical failure.
   auto a = testing::scene(probe_scene("overstatev", 1));
