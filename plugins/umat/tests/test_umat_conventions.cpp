@@ -191,17 +191,14 @@ TEST_CASE("umat: Modified Cam-Clay initialising at TIME(2) = 0 is modified_cam_c
 [initial]
 p = 100.0
 [[paths]]
-name = "load"
 type = "oedometer"
 axial_strain = -0.02
 steps = 20
 [[paths]]
-name = "unload"
 type = "oedometer"
 axial_strain = 0.004
 steps = 8
 [[paths]]
-name = "reload"
 type = "oedometer"
 axial_strain = -0.02
 steps = 20
