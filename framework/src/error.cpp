@@ -16,8 +16,8 @@ Error::Error(SourceLocation where, const std::string& message)
       message_(message) {}
 
 const char* to_string(Status s) {
-  static constexpr std::array<const char*, 6> names{
-      "ok", "not converged", "material failure", "singular matrix", "NaN or Inf", "diverged"};
+  static constexpr std::array<const char*, 7> names{
+      "ok", "not converged", "material failure", "singular matrix", "NaN or Inf", "diverged", "fatal error"};
   return enum_name(s, names, "unknown");
 }
 

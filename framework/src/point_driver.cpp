@@ -264,9 +264,13 @@ PointRun PointDriver::run() const {
       Outcome o;
       bool converged = false;
       double rn = 0;
+      // One stage whose increments are the steps of all paths, each of pseudo-time 1
+      // (docs/design.md, "Time of a stage"): a material sees total time 0 on the first step only.
+      PointContext where{
+          0, 0, StepClock{static_cast<double>(step), static_cast<double>(step), 1.0, 1, step + 1}, {}, 0.0};
       for (int it = 0; it < 50; ++it) {
         MaterialOutput mo{s_new, trial, tangent};
-        o = m.update(MaterialInput{stress, strain, hist, de, {0, 0}}, mo);
+        o = m.update(MaterialInput{stress, strain, hist, de, where}, mo);
         if (!o.ok()) break;
         if (S.empty()) {
           converged = true;

@@ -8,9 +8,23 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <string>
 
 namespace stratum::continuum {
+
+/// What a material learns of point `point` of `cell`: the indices, the load step
+/// (ElementData::clock), the point's coordinates x (2 or 3 entries) and the cell's characteristic
+/// length: sqrt(area) of a two-dimensional cell (the area in the plane, also in axisymmetry),
+/// cbrt(volume) of a three-dimensional one; `size` is that area or volume (0 when unknown).
+template <class Coordinates>
+[[nodiscard]] PointContext point_context(const ElementData& cell, int point, const Coordinates& x,
+                                         double size) {
+  PointContext c{cell.id, point, cell.clock, {}, 0.0};
+  for (Eigen::Index k = 0; k < x.size() && k < 3; ++k) c.x[static_cast<std::size_t>(k)] = x(k);
+  if (size > 0.0) c.length = x.size() >= 3 ? std::cbrt(size) : std::sqrt(size);
+  return c;
+}
 
 /// Throws stratum::Error unless u and u_n hold the two displacement components of each of the
 /// cell's n nodes; `cell_kind` names the cell in the message ("quadrilateral", "triangle").

@@ -155,11 +155,15 @@ public:
     Vec6 stress;
     Mat6 tangent;
     const Eigen::Matrix<double, 24, 1> du = u - u_n;
+    double volume = 0.0; // for the characteristic length of the points
+    for (const double v : dV) volume += v;
     for (int i = 0; i < np; ++i) {
       const auto k = static_cast<std::size_t>(i);
       const Vec6 dstrain = B[k] * du;
-      if (Outcome r = update_material_point(*law.material, states, first_point + k, dstrain,
-                                            PointContext{cell.id, i}, want_tangent, stress, tangent);
+      if (Outcome r = update_material_point(
+              *law.material, states, first_point + k, dstrain,
+              continuum::point_context(cell, i, (rule_[k].N.transpose() * X).eval(), volume), want_tangent,
+              stress, tangent);
           !r.ok())
         return r;
       f.noalias() += B[k].transpose() * (dV[k] * stress);

@@ -312,6 +312,12 @@ private:
       for (int i = 0; i < np; ++i) bbar[static_cast<std::size_t>(i)] = proj.row(i);
     }
 
+    double area = 0.0; // in the plane, for the characteristic length of the points
+    for (int i = 0; i < np; ++i) {
+      const auto& g = geo[static_cast<std::size_t>(i)];
+      area += axi ? g.dV / (2.0 * std::numbers::pi * g.x) : g.dV;
+    }
+
     Eigen::Matrix<double, ND, 1> f = Eigen::Matrix<double, ND, 1>::Zero();
     Eigen::Matrix<double, ND, ND, Eigen::RowMajor> K; // row-major: add_sparse_btdb adds rows
     if (want_tangent) K.setZero();
@@ -335,8 +341,10 @@ private:
       // is the committed one plus the increment, so a stage that resets displacements keeps it).
       dstrain.setZero();
       dstrain.head<4>().noalias() = B * (ue - une);
-      if (Outcome r = update_material_point(material, states, first_point + static_cast<std::size_t>(i),
-                                            dstrain, PointContext{cell.id, i}, want_tangent, stress, tangent);
+      if (Outcome r =
+              update_material_point(material, states, first_point + static_cast<std::size_t>(i), dstrain,
+                                    continuum::point_context(cell, i, (g.N.transpose() * X).eval(), area),
+                                    want_tangent, stress, tangent);
           !r.ok())
         return r;
 

@@ -165,6 +165,9 @@ public:
     Vec6 dstrain, stress;
     Mat6 tangent;
     Point g;
+    // The characteristic length of the points: from the area of the corner triangle.
+    const double area =
+        0.5 * ((X(1, 0) - X(0, 0)) * (X(2, 1) - X(0, 1)) - (X(2, 0) - X(0, 0)) * (X(1, 1) - X(0, 1)));
     for (std::size_t i = 0; i < table_.size(); ++i) {
       const int ip = static_cast<int>(i);
       if (!evaluate(table_[i], X, g))
@@ -173,8 +176,10 @@ public:
       // As in quad: the increment from the displacement change (stratum/material_point.hpp).
       dstrain.setZero();
       dstrain.head<4>().noalias() = B * du;
-      if (Outcome r = update_material_point(material, states, first_point + i, dstrain,
-                                            PointContext{cell.id, ip}, want_tangent, stress, tangent);
+      if (Outcome r =
+              update_material_point(material, states, first_point + i, dstrain,
+                                    continuum::point_context(cell, ip, (g.N->transpose() * X).eval(), area),
+                                    want_tangent, stress, tangent);
           !r.ok())
         return r;
       f.noalias() += B.transpose() * (g.dV * stress.head<4>());

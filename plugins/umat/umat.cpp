@@ -56,7 +56,9 @@ std::unique_ptr<stratum::Material> create(const Params& p) {
   s.props = p.real_list("props");
   s.nstatv = static_cast<int>(p.integer("nstatv"));
   s.celent = p.real("celent");
-  s.dtime = p.real("dtime");
+  s.stage_time = p.real("stage_time");
+  s.nstatv_at = p.where("nstatv").str();
+  s.props_at = p.where("props").str();
   s.symmetric = p.flag("symmetric_tangent");
   s.thread_safe = p.flag("thread_safe");
 
@@ -138,10 +140,14 @@ STRATUM_PLUGIN(registry) {
       .at_least(0)
       .at_most(6)
       .defaults_to(0LL);
-  s.real("celent", "m", "CELENT: characteristic element length passed to the UMAT")
-      .greater_than(0.0)
-      .defaults_to(1.0);
-  s.real("dtime", "-", "DTIME: the time increment passed with every call (the analysis has no time)")
+  s.real("celent", "m",
+         "CELENT: 0 passes the cell's characteristic length (sqrt of its area, cbrt of its volume); > 0 "
+         "this length at every point")
+      .at_least(0.0)
+      .defaults_to(0.0);
+  s.real(
+       "stage_time", "-",
+       "the UMAT's time per stage: TIME and DTIME are the pseudo-time (load factor, 1 per stage) times this")
       .greater_than(0.0)
       .defaults_to(1.0);
   s.boolean("symmetric_tangent", "true: the UMAT's DDSDDE is symmetric (Cholesky); false: LU")

@@ -39,6 +39,10 @@ struct ElementData {
   unsigned shape = 0;                 ///< present node slots
   const Eigen::MatrixXd* x = nullptr; ///< coordinates of the present nodes, n x dim
   CellType type = CellType::quadrilateral;
+  /// The load step being evaluated (stratum/material.hpp); an element copies it into the
+  /// PointContext of every point it hands to its material, with the point's coordinates and
+  /// the cell's characteristic length.
+  StepClock clock{};
 };
 
 /// The constitutive law of the element's domain: exactly one is set.

@@ -46,6 +46,11 @@ enum class Status {
   singular,         ///< a linear system could not be factorized
   non_finite,       ///< NaN or Inf appeared
   diverged,         ///< residual grew beyond a safe bound
+  /// Not numerical and not worth a retry: the step driver stops the run at once (no cut-back)
+  /// with the message, keeping the results written so far. For a configuration error found only
+  /// when a point is evaluated (e.g. a UMAT writing past NSTATV) or a model that asks to end the
+  /// analysis (a UMAT calling XIT).
+  fatal,
 };
 
 [[nodiscard]] const char* to_string(Status s);

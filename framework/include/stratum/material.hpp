@@ -13,16 +13,37 @@
 #include "stratum/error.hpp"
 #include "stratum/voigt.hpp"
 
+#include <array>
 #include <span>
 #include <string>
 #include <vector>
 
 namespace stratum {
 
-/// Where the point sits, for messages only.
+/// Where the analysis stands in time when a load step evaluates its points (docs/design.md,
+/// "Time of a stage"). A static stage runs its load factor lambda from 0 to 1 in a pseudo-time
+/// of 1: its step time is lambda, and the total time is the number of stages completed before it
+/// plus the step time. The times are those of the start of the step being tried (lambda_n), so
+/// that every evaluation of one step sees the same values; dtime is the trial load factor minus
+/// lambda_n (0 in the evaluation of a stage's initial forces, negative where a path-following
+/// solver unloads). A restart from a checkpoint continues the stage count, hence the total time.
+struct StepClock {
+  double step_time = 0.0;  ///< time within the stage at the start of the step (static: lambda_n)
+  double total_time = 0.0; ///< time of the analysis at the start of the step
+  double dtime = 0.0;      ///< time increment of the step (static: lambda - lambda_n)
+  int stage = 0;           ///< stage number, 1-based (0: no staged analysis, e.g. a unit test)
+  int increment = 0;       ///< load step within the stage, 1-based; a retried step keeps its number
+};
+
+/// Where and when the point is: for messages, and for materials that depend on position, size or
+/// time (e.g. the umat adapter's COORDS, CELENT, TIME, KSTEP, KINC).
 struct PointContext {
-  int element = -1; ///< global element index
-  int point = -1;   ///< integration point within the element
+  int element = -1;          ///< global element index
+  int point = -1;            ///< integration point within the element
+  StepClock clock{};         ///< the load step being evaluated (ElementData::clock)
+  std::array<double, 3> x{}; ///< coordinates of the point (m; 2D: z = 0; axisymmetric: r, z, 0)
+  double length = 0.0;       ///< characteristic length of the cell (m): sqrt(area) of a 2D cell,
+                             ///< cbrt(volume) of a 3D one; 0 when the caller has no cell
 };
 
 /// Input of one update: the committed state at t_n and the total strain increment.

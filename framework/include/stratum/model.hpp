@@ -73,9 +73,13 @@ struct Model {
   /// Prescribed displacement of the current stage: prescribed_base + lambda * prescribed (m).
   Eigen::VectorXd prescribed_base;
   Eigen::VectorXd prescribed;
-  Eigen::VectorXd u;             ///< full-size committed displacement (m)
-  Eigen::VectorXd reactions;     ///< full-size internal force at the last converged state (kN)
-  double lambda = 0.0;           ///< committed load factor within the current stage
+  Eigen::VectorXd u;         ///< full-size committed displacement (m)
+  Eigen::VectorXd reactions; ///< full-size internal force at the last converged state (kN)
+  double lambda = 0.0;       ///< committed load factor within the current stage
+  /// The load step being evaluated (stratum/material.hpp, StepClock): the step driver sets the
+  /// stage and increment, the stage's problem the times of each evaluation; element_data()
+  /// hands it to the elements.
+  StepClock clock;
   std::vector<char> active;      ///< per cell: 1 when the cell takes part (stages deactivate cells)
   std::vector<char> constrained; ///< per DOF: 1 when a constraint holds it
 
@@ -92,7 +96,7 @@ struct Model {
   /// What an element sees of a cell: its index, type, present slots and the coordinates x.
   [[nodiscard]] ElementData element_data(int cell, const Eigen::MatrixXd& x) const {
     const Cell& c = mesh.cells[static_cast<std::size_t>(cell)];
-    return ElementData{cell, c.shape(), &x, c.type};
+    return ElementData{cell, c.shape(), &x, c.type, clock};
   }
   /// The number of displacement components (2, or 3 when the model has field uz).
   [[nodiscard]] int dim() const { return dofs.field("uz") == field_uz ? 3 : 2; }

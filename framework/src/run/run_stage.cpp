@@ -144,7 +144,7 @@ void collect_steps(StageResult& res, int stage, RunSummary& summary) {
 void stage_failed(const stage::Stage& st, const StageResult& res, const StiffnessPath& stiffness,
                   RunSummary& summary) {
   std::string message = "stage \"" + st.name + "\": " + res.outcome.message;
-  if (st.until_failure) {
+  if (st.until_failure && res.outcome.status != Status::fatal) { // a fatal error is no collapse
     summary.stiffness_ratio = stiffness.ratio();
     const bool collapse = stiffness.has_first() && summary.stiffness_ratio < st.collapse_stiffness;
     summary.stop_reason = collapse ? StopReason::collapse : StopReason::numerical;
@@ -207,6 +207,10 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
 
   // ---- the stage's problem: equilibrium at its start, the target load at its end
   m.rebuild_dofs();
+  // The stage's time (stratum/material.hpp, StepClock): pseudo-time 1 per stage, so the total
+  // time at its start is the number of stages before it (a restart continues it); the problem
+  // sets the times of each evaluation from the load factor.
+  m.clock = StepClock{0.0, static_cast<double>(k), 0.0, static_cast<int>(k) + 1, 1};
   const Assembler assembler(m, settings.reuse_linear_stiffness, settings.threads);
   auto ls = std::make_unique<TimedLinearSolver>(
       make_linear_solver(settings.linear_solver, m.symmetric(), m.dofs.free_count), summary.times,
@@ -238,6 +242,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   StiffnessPath stiffness(m, f0);
   cb.accepted = [&](const StepRecord& rec, const StepReport& rep, const Eigen::VectorXd& x) {
     m.lambda = rec.lambda;
+    m.clock.increment = rec.step + 1; // the next step's
     m.expand(x, m.lambda, m.u);
     m.reactions = problem.internal_force();
     stiffness.add(m);

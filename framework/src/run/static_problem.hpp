@@ -19,11 +19,15 @@ namespace stratum {
 class StaticProblem final : public NonlinearProblem {
 public:
   StaticProblem(Model& m, const Assembler& a, LinearSolver& ls, RunTimes& times)
-      : m_(m), a_(a), ls_(ls), times_(times) {
+      : m_(m), a_(a), ls_(ls), times_(times), start_(m.clock.total_time - m.clock.step_time) {
     ref_ = m.restrict_free(m.load_ref);
   }
   Eigen::Index size() const override { return m_.dofs.free_count; }
   Outcome evaluate(const Eigen::VectorXd& u, double lambda, Eigen::VectorXd& r, SparseMatrix* k) override {
+    // The time of the step being tried: its start is the committed load factor (StepClock).
+    m_.clock.step_time = m_.lambda;
+    m_.clock.total_time = start_ + m_.lambda;
+    m_.clock.dtime = lambda - m_.lambda;
     m_.expand(u, lambda, full_);
     Outcome o = timed(times_.assembly, [&] { return a_.assemble(m_, full_, fint_, k); });
     ++times_.assemblies;
@@ -72,6 +76,7 @@ private:
   const Assembler& a_;
   LinearSolver& ls_;
   RunTimes& times_;
+  double start_; ///< total time at the stage's start
   Eigen::VectorXd ref_, full_, fint_;
 };
 

@@ -138,6 +138,10 @@ StageResult load_control(NonlinearProblem& problem, const Solver& solver, const 
     if (!rep.outcome.ok()) {
       call(cb.revert);
       res.records.push_back(rec);
+      if (rep.outcome.status == Status::fatal) { // no retry: the run ends here
+        res.outcome = rep.outcome;
+        return res;
+      }
       // Give up when the increment is already max_cutbacks halvings below the nominal one.
       const double floor = nominal * std::ldexp(1.0, -s.max_cutbacks);
       if (std::abs(req.lambda - req.lambda_n) <= floor * (1 + 1e-9)) {
@@ -233,6 +237,10 @@ StageResult path_following(NonlinearProblem& problem, const Solver& solver, cons
     if (!rep.outcome.ok()) {
       call(cb.revert);
       res.records.push_back(rec);
+      if (rep.outcome.status == Status::fatal) { // no retry: the run ends here
+        res.outcome = rep.outcome;
+        return res;
+      }
       if (depth >= s.max_cutbacks) {
         res.outcome = Outcome::failure(rep.outcome.status, gave_up(rec, depth, true));
         return res;
