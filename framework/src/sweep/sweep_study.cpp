@@ -109,7 +109,8 @@ StudySettings read_study_table(const toml::table& root, const std::string& path)
   const fs::path dir = fs::path(path).parent_path();
   r.base_path =
       (fs::path(base_rel).is_absolute() ? fs::path(base_rel) : dir / base_rel).lexically_normal().string();
-  r.base_text = read_text_file(r.base_path, location(*s->get(r.key)), r.key + " file");
+  r.base_text = read_text_file(r.base_path, location(*s->get(r.key)), r.key + " file",
+                               r.point ? file_limits::point : file_limits::scene);
   r.design = text(*s, "design", sc, {"one_at_a_time", "grid", "latin_hypercube", "monte_carlo"});
   r.kind = r.design == "one_at_a_time"     ? Design::one_at_a_time
            : r.design == "grid"            ? Design::grid
@@ -409,7 +410,8 @@ std::string study_hash(const std::string& text_in, const std::string& base_text,
 } // namespace
 
 Study Study::from_file(const std::string& path) {
-  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "study file"), path);
+  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "study file", file_limits::study),
+                     path);
 }
 
 Study Study::from_string(const std::string& text_in, const std::string& path) {
