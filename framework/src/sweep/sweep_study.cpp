@@ -74,6 +74,9 @@ struct StudySettings {
   bool sample_output = false;
 };
 
+/// The most element-loop threads a sample may have: the bound of [analysis] threads.
+constexpr long long max_threads = 256;
+
 /// Checks samples, seed and threads of [study] (integers, only where the design uses them).
 void check_counts(const toml::table& s, const std::string& sc, bool sampled, const std::string& design) {
   for (const char* k : {"samples", "seed", "threads"}) {
@@ -83,6 +86,12 @@ void check_counts(const toml::table& s, const std::string& sc, bool sampled, con
       throw Error(location(*n),
                   sc + " " + k + " = " + io::show(*n) +
                       (std::string(k) == "seed" ? " must be an integer >= 0" : " must be an integer >= 1"));
+    // The element-loop threads of each sample: [analysis] threads takes at most 256, and more than
+    // the machine's cores only makes the samples slower.
+    if (std::string(k) == "threads" && n->as_integer()->get() > max_threads)
+      throw Error(location(*n), sc + " threads = " + io::show(*n) + " must be at most " +
+                                    std::to_string(max_threads) +
+                                    " (element-loop threads per sample; the processes are the parallelism)");
     if (!sampled && std::string(k) != "threads")
       throw Error(location(*n),
                   sc + " " + k + " is for the sampled designs (latin_hypercube, monte_carlo), not " + design);
