@@ -162,6 +162,15 @@ TEST_CASE("input files: a device, a FIFO or a file over its size limit is refuse
         cli({"check", "inc_fifo.toml"}, d), 1,
         "inc_fifo.toml:1:11 included file 'fifo.toml' is not a regular file but a FIFO (named pipe)");
   }
+  SECTION("a mesh file named by the scene") {
+    // The fuzz corpus's scene: its [mesh] file is /dev/zero.
+    const std::string scene =
+        std::string(STRATUM_SOURCE_DIR) + "/tests/fuzz/corpus/fuzz_scene/finding_mesh_dev_zero.toml";
+    expect_one_line(
+        cli({"check", scene}, d), 1,
+        "finding_mesh_dev_zero.toml:6:8 [mesh] file = \"/dev/zero\": is not a regular file (a folder, a "
+        "FIFO or a device)");
+  }
   SECTION("a checkpoint to restart from") {
     expect_one_line(cli({"run", "ring.toml", "--out", "o", "--restart-from", "/dev/zero"}, d), 1,
                     "stratum: /dev/zero: not a regular file but a character device; a checkpoint must be a "
