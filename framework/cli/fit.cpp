@@ -125,11 +125,11 @@ std::string fit_help() {
        "options of every target:\n"
        "  --range MIN:MAX    keep only the curves whose sigma_3 (or sigma_n) lies in [MIN, MAX] kPa\n"
        "  -o, --out FILE     write the fragment to FILE (atomically) instead of stdout; the residual\n"
-       "                     comments are echoed to stderr\n"
+       "                     comments are echoed to stderr; never one of the CSV files\n"
        "  -h, --help         this text\n"
        "\n"
        "exit status: 0 fitted, 1 bad input or curves that the model cannot fit (one line on stderr),\n"
-       "  3 internal error\n";
+       "  2 FILE could not be written or memory ran out, 3 internal error\n";
   return o.str();
 }
 

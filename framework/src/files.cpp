@@ -141,13 +141,14 @@ std::string read_text_file(const std::string& path, const SourceLocation& where,
                            const FileLimit& limit) {
   const auto [fd, size] = open_input(path, where, what, limit);
   const std::uintmax_t max = limit.megabytes * 1024 * 1024;
-  std::string text;
-  text.resize(static_cast<std::size_t>(size));
+  // One byte more than the file holds, so that its end is seen without growing the buffer; a
+  // file that grows while it is read (or reports size 0, as /proc does) is read on up to the limit.
+  std::string text(static_cast<std::size_t>(size) + 1, '\0');
   std::size_t have = 0;
   while (true) {
-    if (have == text.size()) { // the file grew while it was read: read on, up to the limit
-      if (text.size() > max) break;
-      text.resize(std::max<std::size_t>(text.size() * 2, 4096));
+    if (have == text.size()) {
+      if (have > max) break;
+      text.resize(std::min<std::size_t>(max + 1, std::max<std::size_t>(text.size() * 2, 4096)));
     }
     const ssize_t n = ::read(fd, text.data() + have, text.size() - have);
     if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
