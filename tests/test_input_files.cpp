@@ -266,7 +266,7 @@ TEST_CASE(
   }
 }
 
-TEST_CASE("--out below a regular file, or over an input file, is refused before anything runs",
+TEST_CASE("output paths: --out below a regular file, or over an input file, is refused before anything runs",
           "[cli][files]") {
   const fs::path d = scratch("out");
   write(d / "ring.toml", ring);
@@ -302,7 +302,7 @@ TEST_CASE("--out below a regular file, or over an input file, is refused before 
   CHECK(slurp(d / "curves.csv") == "sigma_3_kPa,eps_axial,q_kPa\n");
 }
 
-TEST_CASE("sweep: the output folder is locked for the sweep's life; a second sweep into it is refused",
+TEST_CASE("sweep: the output folder is locked for the sweep's life, and a second sweep into it is refused",
           "[cli][files][sweep]") {
   const fs::path d = scratch("lock");
   write(d / "study.toml", point_study("[10000.0, 20000.0]"));
@@ -344,7 +344,7 @@ TEST_CASE("sweep: the output folder is locked for the sweep's life; a second swe
   }
 }
 
-TEST_CASE("sweep: [study] threads is range-checked; a sweep whose every sample failed exits 2",
+TEST_CASE("sweep: [study] threads is range-checked, and a sweep whose every sample failed exits 2",
           "[cli][files][sweep]") {
   const fs::path d = scratch("threads");
   write(d / "threads.toml", point_study("[10000.0]", "threads = 100000\n"));
