@@ -153,7 +153,7 @@ TEST_CASE("fit: malformed CSV is located by line and column", "[fit]") {
   CHECK(error_of([&] { (void)cal::read_direct_shear_csv(p9); }) ==
         p9 + ":3:10 tau_kPa = -3; allowed: >= 0 (shear in one direction)");
   CHECK(error_of([] { (void)cal::read_triaxial_csv("/nonexistent/curves.csv"); }) ==
-        "cannot open '/nonexistent/curves.csv'");
+        "cannot open data file '/nonexistent/curves.csv'");
 }
 
 TEST_CASE("fit: a calibration target is found through the plugin that declares it", "[fit]") {

@@ -216,5 +216,6 @@ TEST_CASE("cli fit: bad input and curves it cannot fit fail in one line", "[fit]
       stratum("fit contact --form E_B inputs/calibration/direct_shear_goodman.csv"),
       "fit contact: ", "unknown option '--form'; allowed: --k_s0 VALUE, --range MIN:MAX, -o FILE");
   expect_one_line_error(stratum("fit duncan_chang"), "fit duncan_chang: ", "no CSV file given");
-  expect_one_line_error(stratum("fit duncan_chang /nonexistent.csv"), "", "cannot open '/nonexistent.csv'");
+  expect_one_line_error(stratum("fit duncan_chang /nonexistent.csv"), "",
+                        "cannot open data file '/nonexistent.csv'");
 }

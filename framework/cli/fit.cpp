@@ -13,6 +13,7 @@
 #include "fit.hpp"
 
 #include "files.hpp"
+#include "guards.hpp"
 #include "stratum/calibration.hpp"
 #include "stratum/error.hpp"
 #include "stratum/plugin_loader.hpp"
@@ -124,11 +125,11 @@ std::string fit_help() {
        "options of every target:\n"
        "  --range MIN:MAX    keep only the curves whose sigma_3 (or sigma_n) lies in [MIN, MAX] kPa\n"
        "  -o, --out FILE     write the fragment to FILE (atomically) instead of stdout; the residual\n"
-       "                     comments are echoed to stderr\n"
+       "                     comments are echoed to stderr; never one of the CSV files\n"
        "  -h, --help         this text\n"
        "\n"
        "exit status: 0 fitted, 1 bad input or curves that the model cannot fit (one line on stderr),\n"
-       "  3 internal error\n";
+       "  2 FILE could not be written or memory ran out, 3 internal error\n";
   return o.str();
 }
 
@@ -195,6 +196,10 @@ int fit(const std::vector<std::string>& args) {
     }
   const std::unique_ptr<Calibration> calibration = factory.create(options);
 
+  if (!out.empty()) {
+    refuse_output_over_inputs("-o", out, files);
+    refuse_output_below_file("-o", out);
+  }
   std::string header = "# stratum fit";
   for (const auto& a : args) header += " " + a;
   LabCurves curves;
@@ -214,7 +219,8 @@ int fit(const std::vector<std::string>& args) {
   if (curves.triaxial.empty() && curves.direct_shear.empty())
     throw Error(curves.source + ": no curve has its " + (triaxial ? "sigma_3" : "sigma_n") + " in --range " +
                 range + " kPa");
-  const std::string text = write_fitted_toml(calibration->fit(curves), header);
+  const std::string text = in_phase("fitting " + target + " to " + curves.source,
+                                    [&] { return write_fitted_toml(calibration->fit(curves), header); });
   if (out.empty()) {
     std::cout << text;
     return 0;

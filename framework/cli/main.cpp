@@ -12,7 +12,9 @@
 //   stratum COMMAND --help, stratum help COMMAND
 //
 // Errors are one line on stderr and a non-zero exit code.
+#include "files.hpp"
 #include "fit.hpp"
+#include "guards.hpp"
 #include "info.hpp"
 #include "scene/reference.hpp"
 #include "stratum/analysis.hpp"
@@ -45,6 +47,16 @@ volatile std::sig_atomic_t stop_signal = 0;
 
 extern "C" void on_stop_signal(int signo) { stop_signal = signo; }
 
+/// A file-size limit (ulimit -f) kills a process that writes past it with SIGXFSZ, before it can
+/// say anything. Ignored, the write fails with EFBIG instead and the writers report it (which
+/// file, which limit) as a WriteError. Set once at start-up, for the life of the process.
+void ignore_file_size_signal() {
+  struct sigaction sa {};
+  sa.sa_handler = SIG_IGN;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGXFSZ, &sa, nullptr);
+}
+
 void catch_stop_signals() {
   struct sigaction sa {};
   sa.sa_handler = on_stop_signal;
@@ -67,7 +79,8 @@ constexpr const char* usage =
     "       stratum --version\n"
     "       stratum COMMAND --help   (or stratum help COMMAND): the command's options and exit status\n"
     "exit status: 0 done (a collapse or a settlement limit of the last stage included), 1 bad input,\n"
-    "  2 a stage failed, 3 internal error, 4 an until_failure stage stopped by a numerical failure\n"
+    "  2 a stage failed, a result file could not be written (disk full, ulimit -f) or memory ran out\n"
+    "  (ulimit -v), 3 internal error, 4 an until_failure stage stopped by a numerical failure\n"
     "  (not a collapse), 5 a [[checks]] entry failed, 130/143 interrupted by SIGINT/SIGTERM\n";
 
 constexpr const char* run_help =
@@ -92,8 +105,10 @@ constexpr const char* run_help =
     "  -h, --help                 this text\n"
     "\n"
     "exit status: 0 done (a collapse or a settlement limit of the last stage included), 1 bad input\n"
-    "  (one located line on stderr), 2 a stage failed, 3 internal error, 4 an until_failure stage\n"
-    "  stopped by a numerical failure (not a collapse), 130/143 interrupted by SIGINT/SIGTERM (what\n"
+    "  (one located line on stderr), 2 a stage failed, a result file could not be written (disk full,\n"
+    "  file size limit) or memory ran out (what was written before is kept, summary.toml says how\n"
+    "  far the run got), 3 internal error, 4 an until_failure stage stopped by a numerical failure\n"
+    "  (not a collapse), 5 a [[checks]] entry failed, 130/143 interrupted by SIGINT/SIGTERM (what\n"
     "  was computed is written)\n";
 
 constexpr const char* check_help =
@@ -109,7 +124,8 @@ constexpr const char* check_help =
     "  --quiet      print nothing when the scene is good\n"
     "  -h, --help   this text\n"
     "\n"
-    "exit status: 0 the scene is good, 1 bad input (one located line on stderr), 3 internal error\n";
+    "exit status: 0 the scene is good, 1 bad input (one located line on stderr), 2 out of memory\n"
+    "  (ulimit -v), 3 internal error\n";
 
 constexpr const char* point_help =
     "usage: stratum point POINT.toml [--out FILE.csv]\n"
@@ -121,11 +137,13 @@ constexpr const char* point_help =
     "\n"
     "options:\n"
     "  --out FILE.csv   the table (default out/<point file name>.csv); written to a temporary\n"
-    "                   file and renamed, so a regular file or a new name only\n"
+    "                   file and renamed, so a regular file or a new name only, never the point\n"
+    "                   file itself\n"
     "  -h, --help       this text\n"
     "\n"
     "exit status: 0 done, 1 bad input (one located line on stderr), 2 the material failed on the\n"
-    "  path (the rows computed before are written), 3 internal error\n";
+    "  path (the rows computed before are written), the table could not be written or memory ran\n"
+    "  out, 3 internal error\n";
 
 /// The --help text of a subcommand; empty for an unknown one.
 std::string help_of(const std::string& cmd) {
@@ -171,6 +189,11 @@ public:
   }
   void end() const {
     if (tty_ && shown_) std::cerr << "\n";
+  }
+  /// The stage running now ("stage 2/3 \"load\""), or "before its first stage".
+  [[nodiscard]] std::string stage_text() const {
+    if (stage_.empty()) return "before its first stage";
+    return stage_.substr(0, stage_.find_last_not_of(' ') + 1);
   }
 
 private:
@@ -229,6 +252,8 @@ int point(const std::vector<std::string>& args) {
   if (file.empty()) throw Error("no point file given (see stratum --help)");
   if (out.empty())
     out = (std::filesystem::path("out") / (std::filesystem::path(file).stem().string() + ".csv")).string();
+  cli::refuse_output_over_inputs("--out", out, {file});
+  cli::refuse_output_below_file("--out", out);
   // The CSV is written to a temporary file and renamed over the target: a symlink or a device
   // there would be replaced by a regular file (as root, /dev/full was), so only a regular file
   // or a new name is taken.
@@ -237,8 +262,10 @@ int point(const std::vector<std::string>& args) {
     throw Error("--out '" + out +
                 "' exists and is not a regular file (a symlink, folder or device); give a new "
                 "or a regular file name");
-  const auto driver = PointDriver::from_file(file);
-  const PointRun r = driver->run();
+  const PointRun r = cli::in_phase("running the point file " + file, [&] {
+    const auto driver = PointDriver::from_file(file);
+    return driver->run();
+  });
   PointDriver::write_csv(r, out); // what was computed is kept, also after a failure
   if (!r.outcome.ok()) {
     std::cerr << "stratum: " << file << ": " << to_string(r.outcome.status) << ": " << r.outcome.message
@@ -419,10 +446,23 @@ int run(const std::vector<std::string>& args, bool check_only) {
   const MuteStdout mute(a.quiet);
   const bool tty = isatty(STDERR_FILENO) != 0;
   Progress progress(tty, a.progress_every);
-  auto analysis = Analysis::from_file(a.scene, run_options(a, progress));
+  if (!check_only) {
+    cli::refuse_output_over_inputs("--out", a.out, {a.scene, a.restart});
+    cli::refuse_output_below_file("--out", a.out);
+  }
+  auto analysis = cli::in_phase("reading " + a.scene + " and building its model",
+                                [&] { return Analysis::from_file(a.scene, run_options(a, progress)); });
   if (check_only) return report_check(*analysis, a.scene, a.quiet);
   catch_stop_signals();
-  const RunSummary s = analysis->run();
+  RunSummary s;
+  try {
+    s = analysis->run();
+  } catch (const std::bad_alloc&) {
+    throw cli::OutOfMemory("running " + a.scene + " (" + progress.stage_text() + ")");
+  } catch (const WriteError& e) {
+    throw WriteError(a.scene + ": " + e.message() + "; the run stopped there (" + progress.stage_text() +
+                     "), the files written before are whole and kept, and summary.toml says how far it got");
+  }
   progress.end();
   if (!s.outcome.ok()) return report_failure(s, a.scene);
   print_done(s);
@@ -446,6 +486,7 @@ int run(const std::vector<std::string>& args, bool check_only) {
 } // namespace
 
 int main(int argc, char** argv) {
+  ignore_file_size_signal();
   std::vector<std::string> args(argv + 1, argv + argc);
   try {
     if (args.empty()) {
@@ -487,9 +528,20 @@ int main(int argc, char** argv) {
     throw Error("unknown command '" + cmd +
                 "'; allowed: run, check, point, fit, sweep, plugins, describe, help, --version" +
                 did_you_mean(cmd, commands));
+  } catch (const stratum::WriteError& e) {
+    // A result file could not be written (disk full, file size limit): the run failed, its input
+    // did not; what was written before stays.
+    std::cerr << "stratum: " << e.what() << "\n";
+    return 2;
   } catch (const stratum::Error& e) {
     std::cerr << "stratum: " << e.what() << "\n";
     return 1;
+  } catch (const stratum::cli::OutOfMemory& e) {
+    std::cerr << "stratum: " << stratum::cli::out_of_memory_line(e.phase()) << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "stratum: " << stratum::cli::out_of_memory_line("starting") << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "stratum: internal error: " << e.what() << "\n";
     return 3;

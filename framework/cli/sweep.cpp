@@ -10,6 +10,7 @@
 // The MPI C API is used when the build found MPI (STRATUM_HAVE_MPI) and the process was started
 // by an MPI launcher; otherwise everything runs in this one process.
 #include "sweep.hpp"
+#include "guards.hpp"
 #include "sweep_manager.hpp"
 
 #include "sweep/sweep.hpp"
@@ -104,8 +105,11 @@ const char* sweep_help() {
          "Progress goes to stderr: one line rewritten in place on a terminal, a line every 5 s\n"
          "otherwise.\n"
          "\n"
+         "The folder is the study's while it runs: a second sweep (or run) into it stops at once.\n"
+         "\n"
          "exit status: 0 done (samples that failed are listed with their reason in samples.csv),\n"
-         "  1 bad input, 3 internal error\n";
+         "  1 bad input (the folder taken by another sweep included), 2 every sample failed, a\n"
+         "  result file could not be written or memory ran out, 3 internal error\n";
 }
 
 int sweep(const std::vector<std::string>& args) {
@@ -141,7 +145,11 @@ int sweep(const std::vector<std::string>& args) {
   MpiSession mpi;
   std::optional<Study> study;
   try {
-    study = Study::from_file(file);
+    study = in_phase("reading the study " + file, [&] { return Study::from_file(file); });
+    refuse_output_below_file("--out", out);
+    // The folder's files must not be the study's own (a study file named samples.csv in it).
+    refuse_output_over_inputs("--out", out, {file, study->base_path()},
+                              {"journal.csv", "samples.csv", "timings.csv"});
   } catch (const Error&) {
     if (mpi.rank() == 0) throw; // every rank reads the same file: rank 0 says what is wrong
     return 1;
@@ -149,7 +157,7 @@ int sweep(const std::vector<std::string>& args) {
 #ifdef STRATUM_HAVE_MPI
   if (mpi.rank() != 0) return worker(*study, out);
 #endif
-  return manager(*study, out, mpi);
+  return in_phase("running the study " + file, [&] { return manager(*study, out, mpi); });
 }
 
 } // namespace stratum::cli

@@ -4,6 +4,7 @@
 #include "sweep_manager.hpp"
 
 #include "files.hpp"
+#include "output/output_folder.hpp"
 
 #include "mpi.hpp"
 
@@ -12,6 +13,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -75,7 +77,8 @@ void write_all(int fd, const std::string& s, const std::string& path) {
   std::size_t done = 0;
   while (done < s.size()) {
     const auto n = ::write(fd, s.data() + done, s.size() - done);
-    if (n < 0) throw Error("cannot write '" + path + "'");
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw WriteError("cannot write '" + path + "': " + write_failure(errno));
     done += static_cast<std::size_t>(n);
   }
 }
@@ -86,10 +89,7 @@ public:
   Journal(const fs::path& path, const std::string& hash, std::size_t samples) : path_(path.string()) {
     const std::string head = "# stratum sweep journal, study hash " + hash + "\n";
     if (fs::exists(path)) {
-      std::ifstream in(path, std::ios::binary);
-      std::stringstream ss;
-      ss << in.rdbuf();
-      const std::string text = ss.str();
+      const std::string text = read_text_file(path_, SourceLocation{}, "sweep journal", file_limits::journal);
       if (text.compare(0, head.size(), head) != 0) {
         const auto e = text.find('\n');
         throw Error(path_ + ": written by another study (" + text.substr(0, e == std::string::npos ? 60 : e) +
@@ -127,7 +127,8 @@ public:
 
   void append(std::size_t index, const std::string& row) {
     write_all(fd_, row + "\n", path_);
-    if (::fsync(fd_) != 0) throw Error("cannot write '" + path_ + "' to the disk (fsync)");
+    if (::fsync(fd_) != 0)
+      throw WriteError("cannot write '" + path_ + "' to the disk (fsync): " + write_failure(errno));
     rows_[index] = row;
   }
   [[nodiscard]] const std::map<std::size_t, std::string>& rows() const { return rows_; }
@@ -209,7 +210,8 @@ class Manager {
 public:
   Manager(const Study& study, const fs::path& out, const MpiSession& mpi)
       : study_(study), out_(out), mpi_(mpi), total_(study.samples().size()) {}
-  /// Runs the study to its end and writes samples.csv; 0 (failed samples are listed there).
+  /// Runs the study to its end and writes samples.csv; 0, or 2 when every sample failed (the
+  /// failed samples are listed there).
   int run();
 
 private:
@@ -229,14 +231,15 @@ private:
   /// Serves the workers and the local thread until every sample is recorded and every worker
   /// was told to stop.
   void serve();
-  /// samples.csv from the journal, and the closing lines.
-  void write_samples() const;
+  /// samples.csv from the journal, and the closing lines; false when every sample failed.
+  [[nodiscard]] bool write_samples() const;
 
   const Study& study_;
   const fs::path out_;
   const MpiSession& mpi_;
   const std::size_t total_;
   std::exception_ptr setup_error_;
+  std::optional<OutputFolder> folder_;
   std::unique_ptr<Journal> journal_;
   std::deque<int> pending_;
   std::ofstream timings_;
@@ -253,7 +256,9 @@ private:
 
 void Manager::open_output() {
   try {
-    fs::create_directories(out_);
+    // The folder is this study's while it runs (a lock file in it, held until the process ends):
+    // a second sweep (or run) into it stops at once instead of running every sample again.
+    folder_.emplace(out_.string());
     journal_ = std::make_unique<Journal>(out_ / "journal.csv", study_.hash(), total_);
     for (std::size_t i = 0; i < total_; ++i)
       if (!journal_->rows().count(i)) pending_.push_back(static_cast<int>(i));
@@ -274,6 +279,8 @@ void Manager::record(const SampleResult& r, int rank, const std::string& h) {
   timings_ << r.index << "," << rank << "," << h << "," << seconds_text(r.seconds) << ","
            << seconds_text(r.cpu_seconds) << "," << r.status << "\n"
            << std::flush;
+  if (!timings_)
+    throw WriteError("cannot write '" + (out_ / "timings.csv").string() + "': " + write_failure(errno));
   progress_->finished(r.status == "failed");
   ++counts_[r.status == "converged" ? 0 : r.status == "stopped" ? 1 : 2];
   if (kill_ && ++recorded_ == kill_) std::raise(SIGKILL);
@@ -355,22 +362,38 @@ void Manager::serve() {
   }
 }
 
-void Manager::write_samples() const {
+bool Manager::write_samples() const {
   std::string csv = study_.header() + "\n";
   std::size_t converged = 0, stopped = 0, failed = 0;
+  std::string first_failed; // the first failed row, whose reason the closing line quotes
   for (const auto& [i, row] : journal_->rows()) {
     csv += row + "\n";
     const std::string s = status_of(row);
     (s == "converged" ? converged : s == "stopped" ? stopped : failed) += 1;
+    if (s == "failed" && first_failed.empty()) first_failed = row;
   }
   stratum::write_file_atomically((out_ / "samples.csv").string(), csv);
-  std::cout << "done: " << total_ << " samples (" << converged << " converged, " << stopped << " stopped, "
-            << failed << " failed), " << counts_[0] + counts_[1] + counts_[2] << " run now on " << mpi_.size()
+  const bool all_failed = total_ > 0 && failed == total_;
+  std::cout << (all_failed ? "failed: every sample failed: " : "done: ") << total_ << " samples ("
+            << converged << " converged, " << stopped << " stopped, " << failed << " failed), "
+            << counts_[0] + counts_[1] + counts_[2] << " run now on " << mpi_.size()
             << (mpi_.size() == 1 ? " process" : " processes")
             << "\nresults: " << (out_ / "samples.csv").string() << "\n";
-  if (failed)
+  if (all_failed) {
+    // Nothing to learn from the study: most likely one setting that every sample shares is wrong.
+    const auto quote = first_failed.find('"');
+    std::string reason = quote == std::string::npos ? std::string() : first_failed.substr(quote + 1);
+    if (!reason.empty() && reason.back() == '"') reason.pop_back();
+    for (auto q = reason.find("\"\""); q != std::string::npos; q = reason.find("\"\"", q + 1))
+      reason.erase(q, 1);
+    std::cerr << "sweep: failed: every one of the " << total_ << " samples failed (sample "
+              << first_failed.substr(0, first_failed.find(',')) << ": " << reason
+              << "); their status and reason are in samples.csv\n";
+  } else if (failed) {
     std::cerr << "sweep: " << failed << " of " << total_
               << " samples failed: their status and reason are in samples.csv\n";
+  }
+  return !all_failed;
 }
 
 int Manager::run() {
@@ -411,8 +434,7 @@ int Manager::run() {
   if (run_error) std::rethrow_exception(run_error);
   progress_->show(0, true);
   progress_->end();
-  write_samples();
-  return 0;
+  return write_samples() ? 0 : 2;
 }
 
 } // namespace

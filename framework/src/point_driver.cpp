@@ -153,7 +153,8 @@ PointDriver::~PointDriver() = default;
 const std::vector<PointPath>& PointDriver::paths() const { return impl_->paths; }
 
 std::unique_ptr<PointDriver> PointDriver::from_file(const std::string& path, std::vector<std::string> dirs) {
-  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "point file"), path, std::move(dirs));
+  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "point file", file_limits::point), path,
+                     std::move(dirs));
 }
 
 std::unique_ptr<PointDriver> PointDriver::from_string(const std::string& text, const std::string& path,

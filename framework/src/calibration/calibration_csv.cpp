@@ -2,6 +2,8 @@
 // error located by file, line and column (stratum/calibration.hpp).
 #include "stratum/calibration.hpp"
 
+#include "files.hpp"
+
 #include "stratum/error.hpp"
 #include "stratum/parameters.hpp"
 
@@ -49,8 +51,7 @@ std::string column_list(const std::vector<Column>& cols, bool required) {
 
 /// Reads a comma-separated table with a header row of known column names.
 CsvTable read_csv(const std::string& path, const std::vector<Column>& cols) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open '" + path + "'");
+  std::istringstream in(read_text_file(path, SourceLocation{}, "data file", file_limits::csv));
   const std::string allowed =
       "required " + column_list(cols, true) + "; optional " + column_list(cols, false);
   CsvTable t;

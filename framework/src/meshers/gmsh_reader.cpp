@@ -11,6 +11,7 @@
 // one that comes first in the file), 0 -> node sets. Every error names file:line:column.
 #include "stratum/mesh_io.hpp"
 
+#include "files.hpp"
 #include "gmsh_sections.hpp"
 
 #include <algorithm>
@@ -251,13 +252,7 @@ Mesh build(const Lexer& lx, GmshFile& f, const Token& end) {
 } // namespace
 
 Mesh read_gmsh(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open mesh file '" + path + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw Error("cannot read mesh file '" + path + "'");
-
-  Lexer lx(path, std::move(text).str());
+  Lexer lx(path, read_text_file(path, SourceLocation{}, "mesh file", file_limits::mesh));
   GmshFile f;
   using namespace gmsh;
   read_format(lx);

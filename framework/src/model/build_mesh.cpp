@@ -141,10 +141,11 @@ void SceneModel::build_mesh(const scene::Scene& sc) {
     const fs::path f = spec.file_path;
     std::error_code ec;
     if (!fs::is_regular_file(f, ec))
-      throw Error(spec.file_at, "[mesh] file = \"" + spec.file + "\": " +
-                                    (fs::exists(f, ec) ? "is not a regular file (a folder?)"
-                                                       : "no such file ('" + f.string() + "')") +
-                                    "; give a Gmsh .msh 4.1 ASCII file");
+      throw Error(spec.file_at,
+                  "[mesh] file = \"" + spec.file + "\": " +
+                      (fs::exists(f, ec) ? "is not a regular file (a folder, a FIFO or a device)"
+                                         : "no such file ('" + f.string() + "')") +
+                      "; give a Gmsh .msh 4.1 ASCII file");
     model.mesh = read_gmsh(f.string());
     unused_physical_groups(sc.strings, spec.file_at, spec.file);
     break;

@@ -1,5 +1,8 @@
 #include "output/interface_output.hpp"
 
+#include "files.hpp"
+
+#include <cerrno>
 #include <cstdio>
 #include <fstream>
 
@@ -33,7 +36,7 @@ std::vector<InterfacePoint> interface_points(const Model& model, const Domain& d
 
 void write_interface_csv(const std::vector<InterfacePoint>& points, const std::string& path) {
   std::ofstream out(path);
-  if (!out) throw Error("cannot write interface CSV file '" + path + "'");
+  if (!out) throw WriteError("cannot write interface CSV file '" + path + "': " + write_failure(errno));
   out << "s,x,y,shear_traction,normal_traction,slip,opening,status\n";
   static const char* names[] = {"stick", "slip", "open"};
   char buf[256];
@@ -42,7 +45,7 @@ void write_interface_csv(const std::vector<InterfacePoint>& points, const std::s
                   p.traction[0], p.traction[1], p.jump[0], p.jump[1]);
     out << buf << names[static_cast<int>(p.state)] << '\n';
   }
-  if (!out) throw Error("cannot write interface CSV file '" + path + "'");
+  if (!out) throw WriteError("cannot write interface CSV file '" + path + "': " + write_failure(errno));
 }
 
 void append_interface_fields(const Model& model, std::vector<OutputArray>& ip_fields) {

@@ -28,14 +28,21 @@ OutputFolder::OutputFolder(const std::string& dir) : dir_(dir) {
   if (fd_ < 0) throw Error("cannot open '" + lock + "': " + std::strerror(errno));
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     const int err = errno;
+    // The holder wrote its process id into the lock file when it took the lock.
+    char buf[32] = {};
+    const ssize_t n = ::pread(fd_, buf, sizeof buf - 1, 0);
+    const long pid = n > 0 ? std::strtol(buf, nullptr, 10) : 0;
     ::close(fd_);
     fd_ = -1;
     if (err == EWOULDBLOCK)
-      throw Error("output folder '" + dir +
-                  "' is being written by another stratum run; wait for it to end or " +
-                  "give this run another --out");
+      throw Error("output folder '" + dir + "' is being written by another stratum run or sweep" +
+                  (pid > 0 ? " (process " + std::to_string(pid) + ")" : std::string()) +
+                  "; wait for it to end or give this one another --out");
     throw Error("cannot lock '" + lock + "': " + std::strerror(err));
   }
+  // Who holds the lock, for the message of a second run; the lock, not this text, decides.
+  const std::string pid = std::to_string(::getpid()) + "\n";
+  if (::ftruncate(fd_, 0) == 0) (void)!::pwrite(fd_, pid.data(), pid.size(), 0);
 }
 
 OutputFolder::~OutputFolder() {

@@ -64,10 +64,13 @@ void write_step(VtkSeriesWriter& writer, const RunView& run);
 void write_tables(const RunView& run, const RunSummary& summary, const std::vector<Recorder>& recorders,
                   const std::vector<StepRecord>& live);
 
-/// The text of <out>/summary.toml for a run of `scene` with `stages` stages.
+/// The text of <out>/summary.toml for a run of `scene` with `stages` stages. `error`: the run
+/// ended by an error of its environment (a result file that could not be written, memory that
+/// ran out): ended = "failed", status = "error", message = `error`.
 [[nodiscard]] std::string summary_toml(const RunSummary& summary, const std::string& scene,
-                                       std::size_t stages);
+                                       std::size_t stages, const std::string& error = {});
 /// Writes <out>/summary.toml: how the run ended (output/write_summary.cpp).
-void write_summary(const RunSummary& summary, const std::string& scene, std::size_t stages);
+void write_summary(const RunSummary& summary, const std::string& scene, std::size_t stages,
+                   const std::string& error = {});
 
 } // namespace stratum

@@ -6,6 +6,7 @@
 // ParaView/VTK reader understands; for a 1e6-node quad mesh level 1 writes about the
 // size of the default level 5 in half the time.
 #include "output/vtk_output.hpp"
+#include "files.hpp"
 #include "output/vtk_cells.hpp"
 
 #include <vtkCallbackCommand.h>
@@ -29,6 +30,8 @@
 #include <vtkXMLUnstructuredGridWriter.h>
 #include <vtkXMLWriter.h>
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -46,7 +49,7 @@ namespace {
 namespace fs = std::filesystem;
 
 [[noreturn]] void fail(const fs::path& path, const std::string& reason) {
-  throw Error("cannot write '" + path.string() + "': " + reason);
+  throw WriteError("cannot write '" + path.string() + "': " + reason);
 }
 
 /// The temporary name of `final_path`: ".<name>.tmp" in the same directory.
@@ -82,6 +85,10 @@ struct ErrorCatcher {
     std::string_view text(static_cast<const char*>(call));
     if (auto nl = text.find('\n'); nl != std::string_view::npos) text.remove_prefix(nl + 1);
     if (auto colon = text.find("): "); colon != std::string_view::npos) text.remove_prefix(colon + 3);
+    // One line: the executive's "Algorithm X returned failure for request: vtkInformation ..."
+    // goes on with a dump of the request, which says nothing the error code does not.
+    if (auto nl = text.find('\n'); nl != std::string_view::npos) text = text.substr(0, nl);
+    if (text.rfind("Algorithm ", 0) == 0 && text.find("returned failure") != std::string_view::npos) return;
     while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) {
       text.remove_suffix(1);
     }
@@ -106,8 +113,14 @@ std::string error_code_text(unsigned long code) {
     return "file format error";
   case vtkErrorCode::NoFileNameError:
     return "no file name";
-  case vtkErrorCode::OutOfDiskSpaceError:
+  case vtkErrorCode::OutOfDiskSpaceError: {
+    // VTK says this of any failed write; with a file size limit set, that may be the cause.
+    rlimit r{};
+    if (::getrlimit(RLIMIT_FSIZE, &r) == 0 && r.rlim_cur != RLIM_INFINITY)
+      return "out of disk space, or the file size limit of " + std::to_string(r.rlim_cur / 1024) +
+             " kB reached (ulimit -f)";
     return "out of disk space";
+  }
   default:
     return "VTK error code " + std::to_string(code);
   }

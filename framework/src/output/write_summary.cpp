@@ -23,7 +23,8 @@ template <class T> void line(std::ostringstream& o, const char* key, T value) {
 
 } // namespace
 
-std::string summary_toml(const RunSummary& summary, const std::string& scene, std::size_t stages) {
+std::string summary_toml(const RunSummary& summary, const std::string& scene, std::size_t stages,
+                         const std::string& error) {
   // Written key by key, so that the file reads in this order (a toml::table would sort them).
   std::ostringstream o;
   o << "# How the run of " << scene << " ended (written at its end; README.md, \"Exit codes\").\n";
@@ -32,7 +33,8 @@ std::string summary_toml(const RunSummary& summary, const std::string& scene, st
   // ended: "completed" (every stage ran to its end), "stopped" (a stage ended the run early, as
   // its rules allow: stop_reason says why) or "failed" (a step found no equilibrium after its
   // cut-backs outside an until_failure stage: status and message say where).
-  const char* ended = !summary.outcome.ok()                     ? "failed"
+  // With `error`: "failed", status "error" (a file that could not be written, no memory left).
+  const char* ended = !summary.outcome.ok() || !error.empty()   ? "failed"
                       : summary.stop_reason == StopReason::none ? "completed"
                                                                 : "stopped";
   line(o, "ended", std::string(ended));
@@ -40,8 +42,8 @@ std::string summary_toml(const RunSummary& summary, const std::string& scene, st
   line(o, "stop_message", summary.stop_message);
   if (summary.stop_reason == StopReason::collapse || summary.stop_reason == StopReason::numerical)
     line(o, "stiffness_ratio", summary.stiffness_ratio);
-  line(o, "status", std::string(to_string(summary.outcome.status)));
-  line(o, "message", summary.outcome.message);
+  line(o, "status", error.empty() ? std::string(to_string(summary.outcome.status)) : std::string("error"));
+  line(o, "message", error.empty() ? summary.outcome.message : error);
   line(o, "stages", static_cast<std::int64_t>(stages));
   line(o, "stages_done", static_cast<std::int64_t>(summary.stages_done));
   line(o, "steps_done", static_cast<std::int64_t>(summary.steps_done));
@@ -66,9 +68,10 @@ std::string summary_toml(const RunSummary& summary, const std::string& scene, st
   return o.str();
 }
 
-void write_summary(const RunSummary& summary, const std::string& scene, std::size_t stages) {
+void write_summary(const RunSummary& summary, const std::string& scene, std::size_t stages,
+                   const std::string& error) {
   write_file_atomically((fs::path(summary.out_dir) / "summary.toml").string(),
-                        summary_toml(summary, scene, stages));
+                        summary_toml(summary, scene, stages, error));
 }
 
 } // namespace stratum

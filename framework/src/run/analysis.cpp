@@ -35,7 +35,7 @@ std::unique_ptr<Analysis> Analysis::from_string(const std::string& text, const s
 }
 
 std::unique_ptr<Analysis> Analysis::from_file(const std::string& path, RunOptions options) {
-  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "scene file"), path,
+  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "scene file", file_limits::scene), path,
                      std::move(options));
 }
 

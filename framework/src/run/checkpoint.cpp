@@ -1,5 +1,7 @@
 #include "run/checkpoint.hpp"
 
+#include "files.hpp"
+
 #include <boost/archive/binary_iarchive_impl.hpp>
 #include <boost/archive/binary_oarchive.hpp>
 #include <boost/archive/impl/archive_serializer_map.ipp>
@@ -105,30 +107,27 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
     ar << c;
   }
   const std::string bytes = payload.str();
-  const fs::path target(path);
-  if (target.has_parent_path()) fs::create_directories(target.parent_path());
-  const fs::path tmp = target.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot write checkpoint " + tmp.string());
-    out << magic << ' ' << Checkpoint::format << ' ' << std::hex << std::setw(8) << std::setfill('0')
-        << crc32(bytes) << std::dec << ' ' << bytes.size() << '\n';
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) throw Error("cannot write checkpoint " + tmp.string());
-  }
-  fs::rename(tmp, target);
+  std::ostringstream header;
+  header << magic << ' ' << Checkpoint::format << ' ' << std::hex << std::setw(8) << std::setfill('0')
+         << crc32(bytes) << std::dec << ' ' << bytes.size() << '\n';
+  // A temporary file renamed over the target; a failed write (disk full, file size limit) is a
+  // WriteError naming the checkpoint.
+  write_file_atomically(path, header.str() + bytes);
 }
 
 Checkpoint read_checkpoint(const std::string& path) {
+  // A regular file within the limit only: /dev/zero has no end and no header line.
+  (void)check_input_file(path, SourceLocation{}, "checkpoint", file_limits::checkpoint);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the checkpoint");
   return read_checkpoint(in, path);
 }
 
 Checkpoint read_checkpoint(std::istream& in, const std::string& path) {
+  // The header line is short ("STRATUM-CHECKPOINT 3 1a2b3c4d 12345"): at most 128 bytes are
+  // looked at, so that a file without a newline is not read whole as its header.
   std::string header;
-  std::getline(in, header);
+  for (char ch = 0; header.size() < 128 && in.get(ch) && ch != '\n';) header += ch;
   std::istringstream hs(header);
   std::string m, crc_hex;
   int format = 0;

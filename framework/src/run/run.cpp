@@ -7,6 +7,7 @@
 #include "stratum/enum_names.hpp"
 
 #include <filesystem>
+#include <new>
 #include <optional>
 
 namespace fs = std::filesystem;
@@ -63,65 +64,82 @@ RunSummary Analysis::run() {
     folder.emplace(summary.out_dir);
     folder->move_aside_previous(fs::path(s.path).stem().string(), static_cast<int>(first));
   }
-  std::unique_ptr<VtkSeriesWriter> writer;
-  if (s.options.write_output && sm.settings.vtk) {
-    // With more than one thread allowed, the VTK files are written on a thread of the writer's
-    // own while the next steps are solved (the sparse LU is serial, so a core is often free);
-    // the files are the same. [analysis] threads = 1 keeps everything on one thread.
-    writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string(),
-                                               sm.settings.threads > 1);
-    timed(summary.times.output, [&] { write_step(*writer, s.view()); });
-  }
-  s.state.axial_rows.clear();
-  s.state.shaft_rows.clear();
-  // The recorders' first row: the state the run starts from (step 0 of its first stage).
-  for (auto& r : s.recorders) r.sample(m, static_cast<int>(first) + 1, 0, 0.0, 0);
-  for (std::size_t k = first; k < sm.stages.size(); ++k) {
-    const bool go_on = s.run_stage(k, summary, writer.get());
-    if (!summary.outcome.ok()) break;
-    if (go_on && k + 1 < sm.stages.size()) timed(summary.times.output, [&] { s.update_tables(summary, {}); });
-    summary.stages_done = static_cast<int>(k + 1);
-    if (sm.stages[k].checkpoint && s.options.write_output && go_on) {
-      const auto t_ckpt = std::chrono::steady_clock::now();
-      Checkpoint c;
-      c.fingerprint = sm.fingerprint;
-      sm.add_library_parts();
-      for (const auto& p : sm.parts)
-        if (p.stage <= static_cast<int>(k)) {
-          c.part_names.push_back(p.name);
-          c.part_digests.push_back(p.digest);
-          c.part_stages.push_back(p.stage);
-        }
-      c.stages_done = static_cast<int>(k + 1);
-      c.stage_name = sm.stages[k].name;
-      c.u.assign(m.u.data(), m.u.data() + m.u.size());
-      c.reactions.assign(m.reactions.data(), m.reactions.data() + m.reactions.size());
-      c.active = m.active;
-      c.constrained = m.constrained;
-      c.loads = s.loads;
-      for (const auto& dm : m.domains) c.states.push_back(dm.states.committed_data());
-      c.time = s.state.time;
-      const auto path = (fs::path(summary.out_dir) / "checkpoints" /
-                         (std::to_string(k + 1) + "_" + sm.stages[k].name + ".ckpt"))
-                            .string();
-      write_checkpoint(path, c);
-      summary.checkpoints.push_back(path);
-      summary.times.checkpoint += seconds_since(t_ckpt);
+  // A result file that cannot be written (disk full, file size limit) or memory that runs out
+  // ends the run with an exception; summary.toml still says how far it got, when it can be
+  // written, and every file written before stays whole (each is written atomically).
+  try {
+    std::unique_ptr<VtkSeriesWriter> writer;
+    if (s.options.write_output && sm.settings.vtk) {
+      // With more than one thread allowed, the VTK files are written on a thread of the writer's
+      // own while the next steps are solved (the sparse LU is serial, so a core is often free);
+      // the files are the same. [analysis] threads = 1 keeps everything on one thread.
+      writer = std::make_unique<VtkSeriesWriter>(summary.out_dir, fs::path(s.path).stem().string(),
+                                                 sm.settings.threads > 1);
+      timed(summary.times.output, [&] { write_step(*writer, s.view()); });
     }
-    if (!go_on) {
-      if (summary.stop_reason != StopReason::none) summary.stages_done = static_cast<int>(k); // ended early
-      break;
+    s.state.axial_rows.clear();
+    s.state.shaft_rows.clear();
+    // The recorders' first row: the state the run starts from (step 0 of its first stage).
+    for (auto& r : s.recorders) r.sample(m, static_cast<int>(first) + 1, 0, 0.0, 0);
+    for (std::size_t k = first; k < sm.stages.size(); ++k) {
+      const bool go_on = s.run_stage(k, summary, writer.get());
+      if (!summary.outcome.ok()) break;
+      if (go_on && k + 1 < sm.stages.size())
+        timed(summary.times.output, [&] { s.update_tables(summary, {}); });
+      summary.stages_done = static_cast<int>(k + 1);
+      if (sm.stages[k].checkpoint && s.options.write_output && go_on) {
+        const auto t_ckpt = std::chrono::steady_clock::now();
+        Checkpoint c;
+        c.fingerprint = sm.fingerprint;
+        sm.add_library_parts();
+        for (const auto& p : sm.parts)
+          if (p.stage <= static_cast<int>(k)) {
+            c.part_names.push_back(p.name);
+            c.part_digests.push_back(p.digest);
+            c.part_stages.push_back(p.stage);
+          }
+        c.stages_done = static_cast<int>(k + 1);
+        c.stage_name = sm.stages[k].name;
+        c.u.assign(m.u.data(), m.u.data() + m.u.size());
+        c.reactions.assign(m.reactions.data(), m.reactions.data() + m.reactions.size());
+        c.active = m.active;
+        c.constrained = m.constrained;
+        c.loads = s.loads;
+        for (const auto& dm : m.domains) c.states.push_back(dm.states.committed_data());
+        c.time = s.state.time;
+        const auto path = (fs::path(summary.out_dir) / "checkpoints" /
+                           (std::to_string(k + 1) + "_" + sm.stages[k].name + ".ckpt"))
+                              .string();
+        write_checkpoint(path, c);
+        summary.checkpoints.push_back(path);
+        summary.times.checkpoint += seconds_since(t_ckpt);
+      }
+      if (!go_on) {
+        if (summary.stop_reason != StopReason::none) summary.stages_done = static_cast<int>(k); // ended early
+        break;
+      }
     }
+    if (writer) {
+      timed(summary.times.output, [&] { writer->finish(); });
+      summary.pvd = writer->pvd_path();
+    }
+    const auto t_out = std::chrono::steady_clock::now();
+    s.update_tables(summary, {});
+    summary.checks = evaluate_checks(s.checks, s.recorders);
+    if (s.options.write_output) write_summary(summary, s.path, sm.stages.size());
+    summary.times.output += seconds_since(t_out);
+  } catch (const std::exception& e) {
+    if (folder) {
+      try {
+        const bool oom = dynamic_cast<const std::bad_alloc*>(&e) != nullptr;
+        write_summary(summary, s.path, sm.stages.size(),
+                      oom ? std::string("out of memory: the process could allocate no more")
+                          : std::string(e.what()));
+      } catch (...) { // the summary is a courtesy here: the error that ended the run is what counts
+      }
+    }
+    throw;
   }
-  if (writer) {
-    timed(summary.times.output, [&] { writer->finish(); });
-    summary.pvd = writer->pvd_path();
-  }
-  const auto t_out = std::chrono::steady_clock::now();
-  s.update_tables(summary, {});
-  summary.checks = evaluate_checks(s.checks, s.recorders);
-  if (s.options.write_output) write_summary(summary, s.path, sm.stages.size());
-  summary.times.output += seconds_since(t_out);
   summary.times.total = seconds_since(t_run);
   return summary;
 }

@@ -54,7 +54,8 @@ Units scene::read_units(const toml::table& root) {
 }
 
 Units scene_units(const std::string& scene_path) {
-  const std::string text = read_text_file(scene_path, SourceLocation{scene_path, 0, 0}, "scene file");
+  const std::string text =
+      read_text_file(scene_path, SourceLocation{scene_path, 0, 0}, "scene file", file_limits::scene);
   return read_units(io::parse_with_includes(text, scene_path));
 }
 

@@ -139,6 +139,9 @@ void add_top_sections(std::vector<Section>& out) {
         "tables merge key by key at any depth; a value this file sets replaces the included one; the same "
         "value in two included files, or an array of tables (such as [[stages]]) written both in an include "
         "and in the including file, is an error naming both places; includes nest, a cycle is an error. "
+        "Includes nest at most 32 deep (the scene is depth 0), and one scene reads at most 1024 included "
+        "files in all (a file counted as often as it is included). An included file must be a regular file "
+        "(not a FIFO or a device such as /dev/zero) of at most 16 MB, as the scene file itself. "
         "File names written as values (a Gmsh mesh) stay relative to the file that is run."};
   }
   {

@@ -54,7 +54,27 @@ void merge(toml::table& dst, toml::table&& src, bool src_wins, const std::string
   }
 }
 
-toml::table resolve(toml::table root, const std::string& path, std::vector<std::string>& chain) {
+/// The name that tells two paths of one file apart from two files (a cycle of includes).
+std::string canonical_name(const fs::path& p) {
+  std::error_code ec;
+  const fs::path c = fs::weakly_canonical(p, ec);
+  return ec ? p.lexically_normal().string() : c.string();
+}
+
+/// How deep includes may nest (the scene is depth 0), and how many included files one scene may
+/// read in all: a chain of thousands of includes would overflow the stack, and a file included
+/// twice at every level would be read 2^depth times.
+constexpr std::size_t max_include_depth = 32, max_included_files = 1024;
+
+/// The includes read so far: the chain from the scene to the file being read (canonical paths,
+/// for cycles and the depth) and how many files were read in all.
+struct IncludeState {
+  std::vector<std::string> chain;
+  std::size_t files_read = 0;
+};
+
+toml::table resolve(toml::table root, const std::string& path, IncludeState& state) {
+  std::vector<std::string>& chain = state.chain;
   const toml::node* inc = root.get("include");
   if (!inc) return root;
   std::vector<const toml::node*> files;
@@ -76,12 +96,21 @@ toml::table resolve(toml::table root, const std::string& path, std::vector<std::
   for (const toml::node* f : files) {
     const std::string name = f->as_string()->get();
     const fs::path file = fs::path(name).is_absolute() ? fs::path(name) : base / name;
-    const std::string key = fs::weakly_canonical(file).string();
+    const std::string key = canonical_name(file);
     for (const auto& c : chain)
       if (c == key) throw Error(location(*f), "include '" + name + "' includes itself (a cycle of includes)");
-    const std::string text = read_text_file(file.string(), location(*f), "the included file");
+    if (chain.size() > max_include_depth)
+      throw Error(location(*f), "include '" + name + "' would be at depth " + std::to_string(chain.size()) +
+                                    " of a chain of includes (the scene is depth 0); includes nest at most " +
+                                    std::to_string(max_include_depth) + " deep");
+    if (++state.files_read > max_included_files)
+      throw Error(location(*f), "include '" + name + "': more than " + std::to_string(max_included_files) +
+                                    " included files in one scene (counting a file as often as it is "
+                                    "included); at most " +
+                                    std::to_string(max_included_files) + " are read");
+    const std::string text = read_text_file(file.string(), location(*f), "included file", file_limits::scene);
     chain.push_back(key);
-    toml::table child = resolve(parse_text(text, file.string()), file.string(), chain);
+    toml::table child = resolve(parse_text(text, file.string()), file.string(), state);
     chain.pop_back();
     merge(merged, std::move(child), false, "");
   }
@@ -93,8 +122,9 @@ toml::table resolve(toml::table root, const std::string& path, std::vector<std::
 } // namespace
 
 toml::table parse_with_includes(const std::string& text, const std::string& path) {
-  std::vector<std::string> chain{fs::weakly_canonical(fs::path(path)).string()};
-  return resolve(parse_text(text, path), path, chain);
+  IncludeState state;
+  state.chain.push_back(canonical_name(fs::path(path)));
+  return resolve(parse_text(text, path), path, state);
 }
 
 } // namespace stratum::io

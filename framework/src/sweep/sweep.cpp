@@ -19,6 +19,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <new>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -145,6 +146,10 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
                                         " of the sample's scene (stratum sweep --print-scene " +
                                         std::to_string(index) + "): " + e.message()
                                   : e.what();
+  } catch (const std::bad_alloc&) {
+    // The sample's model did not fit in the memory the process may have (ulimit -v): a failed
+    // sample, not a defect; the others may be smaller.
+    reason = "out of memory: the process could allocate no more for this sample's model";
   } catch (const std::exception& e) {
     reason = std::string("internal error: ") + e.what();
   }

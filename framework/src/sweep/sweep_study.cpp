@@ -74,6 +74,9 @@ struct StudySettings {
   bool sample_output = false;
 };
 
+/// The most element-loop threads a sample may have: the bound of [analysis] threads.
+constexpr long long max_threads = 256;
+
 /// Checks samples, seed and threads of [study] (integers, only where the design uses them).
 void check_counts(const toml::table& s, const std::string& sc, bool sampled, const std::string& design) {
   for (const char* k : {"samples", "seed", "threads"}) {
@@ -83,6 +86,12 @@ void check_counts(const toml::table& s, const std::string& sc, bool sampled, con
       throw Error(location(*n),
                   sc + " " + k + " = " + io::show(*n) +
                       (std::string(k) == "seed" ? " must be an integer >= 0" : " must be an integer >= 1"));
+    // The element-loop threads of each sample: [analysis] threads takes at most 256, and more than
+    // the machine's cores only makes the samples slower.
+    if (std::string(k) == "threads" && n->as_integer()->get() > max_threads)
+      throw Error(location(*n), sc + " threads = " + io::show(*n) + " must be at most " +
+                                    std::to_string(max_threads) +
+                                    " (element-loop threads per sample; the processes are the parallelism)");
     if (!sampled && std::string(k) != "threads")
       throw Error(location(*n),
                   sc + " " + k + " is for the sampled designs (latin_hypercube, monte_carlo), not " + design);
@@ -109,7 +118,8 @@ StudySettings read_study_table(const toml::table& root, const std::string& path)
   const fs::path dir = fs::path(path).parent_path();
   r.base_path =
       (fs::path(base_rel).is_absolute() ? fs::path(base_rel) : dir / base_rel).lexically_normal().string();
-  r.base_text = read_text_file(r.base_path, location(*s->get(r.key)), r.key + " file");
+  r.base_text = read_text_file(r.base_path, location(*s->get(r.key)), r.key + " file",
+                               r.point ? file_limits::point : file_limits::scene);
   r.design = text(*s, "design", sc, {"one_at_a_time", "grid", "latin_hypercube", "monte_carlo"});
   r.kind = r.design == "one_at_a_time"     ? Design::one_at_a_time
            : r.design == "grid"            ? Design::grid
@@ -409,7 +419,8 @@ std::string study_hash(const std::string& text_in, const std::string& base_text,
 } // namespace
 
 Study Study::from_file(const std::string& path) {
-  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "study file"), path);
+  return from_string(read_text_file(path, SourceLocation{path, 0, 0}, "study file", file_limits::study),
+                     path);
 }
 
 Study Study::from_string(const std::string& text_in, const std::string& path) {
