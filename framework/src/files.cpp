@@ -80,9 +80,13 @@ const char* file_type(mode_t m) {
   return "not a file";
 }
 
-std::string megabytes(std::uintmax_t bytes) {
+/// A file's size for the message that it is over `limit_mb`: in MB to one decimal, or in bytes
+/// when that would read as the limit itself ("4096.0 MB is larger than 4096 MB").
+std::string file_size(std::uintmax_t bytes, std::uintmax_t limit_mb) {
+  const double mb = static_cast<double>(bytes) / (1024.0 * 1024.0);
+  if (mb < static_cast<double>(limit_mb) + 0.05) return std::to_string(bytes) + " bytes";
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f MB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+  std::snprintf(buf, sizeof buf, "%.1f MB", mb);
   return buf;
 }
 
@@ -121,7 +125,7 @@ std::pair<int, std::uintmax_t> open_input(const std::string& path, const SourceL
   if (size > limit.megabytes * 1024 * 1024) {
     ::close(fd);
     throw input_error(path, where, what,
-                      std::string(where.line > 0 ? "(" : "the file (") + megabytes(size) +
+                      std::string(where.line > 0 ? "(" : "the file (") + file_size(size, limit.megabytes) +
                           ") is larger than the limit of " + std::to_string(limit.megabytes) + " MB for a " +
                           limit.kind);
   }
