@@ -68,7 +68,7 @@ void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f) {
       const double p = area > 0 ? spec.total_force / area : 0.0;
       add_edge_pressure(model, edges, p, f);
     } else {
-      const LoadSpec s = spec;
+      const LoadSpec& s = spec;
       add_edge_pressure(
           model, edges,
           [&s](const Eigen::Vector2d& x) {
