@@ -98,11 +98,14 @@ std::string unheld_part(const Model& m, const std::vector<char>& carried, const 
     }
   // The displacement fields whose rigid motion a part must be held against: both in plane strain
   // (and 3D), only the axial one in axisymmetry (a radial motion strains the hoop direction).
+  // A field is looked up by name: a scene of scalar-field elements (a flow problem) has none.
   std::vector<int> fields;
   for (int f = 0; f < m.dim(); ++f)
-    if (m.formulation != Formulation::axisymmetric || f == field_uy) fields.push_back(f);
+    if ((m.formulation != Formulation::axisymmetric || f == field_uy) &&
+        m.dofs.field(std::string("u") + "xyz"[f]) == f)
+      fields.push_back(f);
   // Per part root: a bit per field that some constrained DOF holds; the part's node count and a node.
-  std::vector<unsigned> held(nn, 0);
+  std::vector<unsigned> held(nn, 0), carries(nn, 0);
   std::vector<std::size_t> size(nn, 0);
   for (std::size_t n = 0; n < nn; ++n) {
     if (!used[n]) continue;
@@ -110,16 +113,17 @@ std::string unheld_part(const Model& m, const std::vector<char>& carried, const 
     ++size[r];
     for (std::size_t k = 0; k < fields.size(); ++k) {
       const int d = m.dofs.dof(static_cast<int>(n), fields[k]);
+      if (d >= 0 && carried[static_cast<std::size_t>(d)]) carries[r] |= 1U << k;
       if (d >= 0 && carried[static_cast<std::size_t>(d)] && m.constrained[static_cast<std::size_t>(d)])
         held[r] |= 1U << k;
     }
   }
-  const unsigned all = (1U << fields.size()) - 1U;
   for (std::size_t r = 0; r < nn; ++r) {
-    if (!size[r] || held[r] == all || root(parent, static_cast<int>(r)) != static_cast<int>(r)) continue;
+    if (!size[r] || held[r] == carries[r] || root(parent, static_cast<int>(r)) != static_cast<int>(r))
+      continue;
     std::string free_fields;
     for (std::size_t k = 0; k < fields.size(); ++k)
-      if (!(held[r] & (1U << k)))
+      if ((carries[r] & ~held[r]) & (1U << k))
         free_fields += std::string(free_fields.empty() ? "" : " and ") + std::string(1, "xyz"[fields[k]]);
     std::size_t cells = 0;
     for (const auto& dm : m.domains)
