@@ -18,6 +18,8 @@
 #include <numbers>
 #include <string>
 
+namespace test_anisotropic_scenes {
+
 using namespace stratum;
 
 namespace {
@@ -206,3 +208,5 @@ TEST_CASE("cross-anisotropic axisymmetric: vertical shear of the annulus around 
   CHECK(worst_t < 5e-3); // observed 1.9e-3 (first cell 0.07 m wide at r = a)
   CHECK(worst_n < 1e-9 * Gvh * delta / (ra * L));
 }
+
+} // namespace test_anisotropic_scenes

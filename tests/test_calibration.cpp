@@ -37,6 +37,8 @@
 #include <string>
 #include <vector>
 
+namespace test_calibration {
+
 using Catch::Matchers::Contains;
 using Catch::Matchers::StartsWith;
 using namespace stratum::testing::calibration_tests;
@@ -231,3 +233,5 @@ TEST_CASE("fit: the framework's sources hold none of the plugins' key names", "[
   }());
   CHECK(found.empty());
 }
+
+} // namespace test_calibration

@@ -9,6 +9,8 @@
 
 #include <bit>
 
+namespace test_cell_type {
+
 using stratum::CellType;
 
 TEST_CASE("cell types: dimension, kind and corner slots", "[mesh]") {
@@ -49,3 +51,5 @@ TEST_CASE("fields: an element's default unknowns are the displacement of its cel
   const stratum::NodeFields some{three, {0x7u, 0x1u}};
   CHECK(some.at(1) == 0x1u);
 }
+
+} // namespace test_cell_type

@@ -15,6 +15,8 @@
 #include <fstream>
 #include <sstream>
 
+namespace test_checkpoint {
+
 using namespace stratum;
 using Catch::Matchers::Contains;
 
@@ -152,3 +154,5 @@ TEST_CASE("checkpoint: a payload cut or forged inside the archive header is refu
   forged[sig + 22] = static_cast<char>(0xff); // the library version
   REQUIRE_THROWS_WITH(read(with_header(forged)), Contains("archive header"));
 }
+
+} // namespace test_checkpoint

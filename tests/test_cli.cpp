@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+namespace test_cli {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -679,3 +681,5 @@ TEST_CASE("cli: every key a table accepts is in its stratum describe section", "
     CHECK(keys >= 2);
   }
 }
+
+} // namespace test_cli

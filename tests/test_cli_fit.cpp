@@ -17,6 +17,8 @@
 #include <sstream>
 #include <string>
 
+namespace test_cli_fit {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -219,3 +221,5 @@ TEST_CASE("cli fit: bad input and curves it cannot fit fail in one line", "[fit]
   expect_one_line_error(stratum("fit duncan_chang /nonexistent.csv"), "",
                         "cannot open data file '/nonexistent.csv'");
 }
+
+} // namespace test_cli_fit

@@ -10,6 +10,8 @@
 #include <numbers>
 #include <vector>
 
+namespace test_contact_laws {
+
 using namespace stratum;
 
 namespace {
@@ -297,3 +299,5 @@ TEST_CASE("hyperbolic_interface: Clough-Duncan curve, tangent (3.65) and sliding
     CHECK(pt.state == ContactState::open);
   }
 }
+
+} // namespace test_contact_laws

@@ -12,6 +12,8 @@
 #include <numbers>
 #include <string>
 
+namespace test_contact_scenes {
+
 using namespace stratum;
 using namespace stratum::testing;
 
@@ -151,3 +153,5 @@ TEST_CASE("C3 conditioning sweep: k_n h / E from 1 to 1e8", "[contact]") {
     CHECK(r.interface_error < 1e-8);
   }
 }
+
+} // namespace test_contact_scenes

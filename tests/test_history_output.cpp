@@ -19,6 +19,8 @@
 #include <unistd.h>
 #include <vector>
 
+namespace test_history_output {
+
 namespace fs = std::filesystem;
 using namespace stratum;
 
@@ -133,3 +135,5 @@ TEST_CASE("history output: the preconsolidation pressure of Modified Cam-Clay, w
       },
       1e-6);
 }
+
+} // namespace test_history_output

@@ -12,6 +12,8 @@
 #include <fstream>
 #include <unistd.h>
 
+namespace test_include {
+
 using Catch::Matchers::Contains;
 using stratum::Analysis;
 using stratum::RunOptions;
@@ -121,3 +123,5 @@ TEST_CASE("include: the shared loess and concrete sets are those of the record's
     }
   }
 }
+
+} // namespace test_include

@@ -25,6 +25,8 @@
 #include <thread>
 #include <vector>
 
+namespace test_input_files {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -398,3 +400,5 @@ TEST_CASE("a file-size limit (ulimit -f) ends a run with one line naming the fil
   CHECK(!fs::exists(d / "p.csv"));
   CHECK(!fs::exists(d / ".p.csv.tmp"));
 }
+
+} // namespace test_input_files

@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+namespace test_interface_recorder {
+
 using namespace stratum;
 using namespace stratum::testing;
 namespace fs = std::filesystem;
@@ -177,3 +179,5 @@ TEST_CASE("interface recorder: an unknown interface is one located line", "[reco
                         Catch::Contains("set = \"bsae\" is not an interface of the scene; known: base") &&
                         Catch::Contains("did you mean 'base'"));
 }
+
+} // namespace test_interface_recorder

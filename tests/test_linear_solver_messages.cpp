@@ -18,6 +18,9 @@
 #include <sstream>
 #include <string>
 
+namespace test_linear_solver_messages { // one namespace per test file: the test files build in batches
+                                        // (unity)
+
 namespace fs = std::filesystem;
 using namespace stratum;
 
@@ -197,3 +200,5 @@ TEST_CASE("a load step past the limit: CHOLMOD's breakdown is one line in the st
   CHECK(broke_down > 0);
   CHECK(res.outcome.message.find("CHOLMOD warning") == std::string::npos);
 }
+
+} // namespace test_linear_solver_messages

@@ -21,6 +21,8 @@
 #include <utility>
 #include <vector>
 
+namespace test_loess_pile {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -279,3 +281,5 @@ TEST_CASE("the default loess pile scene against its converged reference curve",
   CHECK(std::abs(p - p_ref) <= 0.02 * p_ref);
   fs::remove_all(dir);
 }
+
+} // namespace test_loess_pile

@@ -12,6 +12,8 @@
 #error "STRATUM_TEST_DATA_DIR must name the tests/data directory"
 #endif
 
+namespace test_mesh_io {
+
 using namespace stratum;
 
 namespace {
@@ -367,3 +369,5 @@ TEST_CASE("read_gmsh: errors name the file and line", "[mesh]") {
     CHECK(error_of([&] { (void)read_gmsh(path); }) == "cannot open mesh file '" + path + "'");
   }
 }
+
+} // namespace test_mesh_io

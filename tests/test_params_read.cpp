@@ -20,6 +20,8 @@
 #include <set>
 #include <string>
 
+namespace test_params_read {
+
 using namespace stratum;
 
 namespace {
@@ -211,3 +213,5 @@ TEST_CASE("params: the check finds a declared key that the factory never reads",
   CHECK(r.failure.empty());
   CHECK(r.unread == std::set<std::string>{"ignored"});
 }
+
+} // namespace test_params_read

@@ -7,6 +7,8 @@
 
 #include <cmath>
 
+namespace test_patch_scene {
+
 using namespace stratum;
 
 namespace {
@@ -56,3 +58,5 @@ TEST_CASE("patch: distorted Gmsh meshes reproduce uniform stress exactly", "[pat
         CHECK(s_err <= 1e-10 * p);
       }
 }
+
+} // namespace test_patch_scene

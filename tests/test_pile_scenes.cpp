@@ -15,6 +15,8 @@
 #include <numbers>
 #include <sstream>
 
+namespace test_pile_scenes {
+
 using namespace stratum;
 using stratum::testing::scene;
 
@@ -370,3 +372,5 @@ TEST_CASE("settlement components of an elastic pile in elastic soil close: head 
   // Linear problem: every component grows in proportion to the load.
   for (std::size_t k = 1; k < 8; ++k) CHECK(rows[3][k] == Approx(3.0 * rows[1][k]).epsilon(1e-6));
 }
+
+} // namespace test_pile_scenes

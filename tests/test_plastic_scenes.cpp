@@ -9,6 +9,8 @@
 #include <numbers>
 #include <sstream>
 
+namespace test_plastic_scenes {
+
 using namespace stratum;
 using stratum::testing::node_at;
 
@@ -166,3 +168,5 @@ TEST_CASE("P4 smooth strip footing on von Mises soil reaches (2 + pi) k", "[veri
   INFO("q = " << q << " kPa = " << q / k << " k; Prandtl " << q_lim / k << " k");
   CHECK(std::abs(q - q_lim) / q_lim < 0.03);
 }
+
+} // namespace test_plastic_scenes

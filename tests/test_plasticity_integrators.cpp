@@ -16,6 +16,9 @@
 #include <string>
 #include <vector>
 
+namespace test_plasticity_integrators { // one namespace per test file: the test files build in batches
+                                        // (unity)
+
 namespace {
 
 using stratum::Mat6;
@@ -567,3 +570,5 @@ TEST_CASE("plasticity: integrator parameters are declared with ranges and read b
   p.set("integrator", std::string("runge_kutta"));
   CHECK_THROWS_AS(pl::read_integrator_parameters(p), stratum::Error);
 }
+
+} // namespace test_plasticity_integrators

@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+namespace test_plugin_paths {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -42,3 +44,5 @@ TEST_CASE("stratum plugins --paths: STRATUM_PLUGIN_PATH first, then the build tr
   CHECK(code == 1);
   CHECK(bad.find("allowed: --describe [NAME], --all, --paths") != std::string::npos);
 }
+
+} // namespace test_plugin_paths

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <filesystem>
 
+namespace test_plugins {
+
 using namespace stratum;
 
 namespace {
@@ -152,3 +154,5 @@ TEST_CASE("schema: ranges, defaults and the messages of check_table", "[plugins]
         "x.toml:2:1 [m] unknown key 'nan'; allowed: E, nu, n, mode");
   CHECK(message_of([&] { (void)check("E = nan\n"); }) == "x.toml:1:5 [m] E = nan is outside (0, inf)");
 }
+
+} // namespace test_plugins

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <unistd.h>
 
+namespace test_point_driver {
+
 using namespace stratum;
 
 TEST_CASE("point driver: elastic closed forms for every path kind", "[point]") {
@@ -192,3 +194,5 @@ TEST_CASE("point driver: [material] from takes a set of an included shared file;
   CHECK(bad.find("materials/bad.toml:3:5") != std::string::npos);
   fs::remove_all(d);
 }
+
+} // namespace test_point_driver

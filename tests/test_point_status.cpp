@@ -36,6 +36,8 @@
 #include <unistd.h>
 #include <vector>
 
+namespace test_point_status {
+
 namespace {
 
 using stratum::Mat6;
@@ -395,3 +397,5 @@ TEST_CASE("VTK: the plastic field of Hill's cylinder, its domain and regime name
     CHECK(regime->GetTuple1(i) == plastic->GetTuple1(i)); // one model: category = its code
   fs::remove_all(out);
 }
+
+} // namespace test_point_status

@@ -19,6 +19,8 @@
 #include <regex>
 #include <sstream>
 
+namespace test_run_output {
+
 namespace fs = std::filesystem;
 
 TEST_CASE("cli: the default scene writes a .pvd series that VTK reads back", "[cli][output]") {
@@ -163,3 +165,5 @@ TEST_CASE("cli: the VTK series carries field data per step, strictly increasing 
   CHECK(value(pr->GetOutput()->GetFieldData(), "load_factor") == value(fd, "load_factor"));
   fs::remove_all(out);
 }
+
+} // namespace test_run_output

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+namespace test_scene_faults {
+
 using namespace stratum;
 namespace fs = std::filesystem;
 using stratum::testing::read_text;
@@ -247,3 +249,5 @@ TEST_CASE("faults: nodes at one place with no interface between them are warned 
   // The block generator shares the nodes of touching blocks, so this scene has no cut: no warning.
   for (const auto& w : build_warnings(text)) CHECK_THAT(w, !Catch::Contains("nodes at one place"));
 }
+
+} // namespace test_scene_faults

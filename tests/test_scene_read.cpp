@@ -11,6 +11,8 @@
 
 #include <string>
 
+namespace test_scene_read {
+
 using Catch::Matchers::Contains;
 
 namespace {
@@ -108,3 +110,5 @@ TEST_CASE("scene::read finds text errors without building; set names are checked
       stratum::Analysis::from_string(bad_monitor, scene_file(), options),
       Contains("two_stages.toml:39:11 [[stages]] #2 monitor = \"tpo\" is not a node or edge set"));
 }
+
+} // namespace test_scene_read

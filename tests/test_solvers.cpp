@@ -20,6 +20,8 @@
 #include <numeric>
 #include <unistd.h>
 
+namespace test_solvers {
+
 using namespace stratum;
 using stratum::testing::load_solver;
 using stratum::testing::SofteningBar;
@@ -635,3 +637,5 @@ TEST_CASE("the line search hands its accepted evaluation to the next iteration",
   CHECK(msearched.points.size() == msearched.rep.residual_norms.size());
   CHECK(msearched.tangents == 2);
 }
+
+} // namespace test_solvers

@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+namespace test_stability {
+
 namespace fs = std::filesystem;
 namespace st = stratum::bench::stability;
 
@@ -296,3 +298,5 @@ TEST_CASE("stability harness: diagnostics.csv may record the NaN of a rejected a
   std::error_code ec;
   fs::remove_all(dir.parent_path(), ec);
 }
+
+} // namespace test_stability

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 
+namespace test_stage_actions {
+
 using namespace stratum;
 using stratum::testing::scene;
 
@@ -153,3 +155,5 @@ TEST_CASE("mesh generators are a plugin kind; blocks and gmsh stay the scene's o
     CHECK(a->model().mesh.cell_sets.count(set) == 1);
   }
 }
+
+} // namespace test_stage_actions

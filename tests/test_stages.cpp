@@ -19,6 +19,8 @@
 
 #include <unistd.h>
 
+namespace test_stages {
+
 using namespace stratum;
 using stratum::testing::scene;
 
@@ -722,3 +724,5 @@ TEST_CASE("diagnostics.csv and the curves grow while a stage runs (tables_every)
   for (std::size_t k = 1; k <= 4; ++k) CHECK(rows_seen[k] == 2 + (k - 1));
   fs::remove_all(out);
 }
+
+} // namespace test_stages

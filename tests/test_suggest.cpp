@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+namespace test_suggest {
+
 using stratum::closest_name;
 using stratum::did_you_mean;
 using stratum::edit_distance;
@@ -39,3 +41,5 @@ TEST_CASE("suggest: only close names are suggested", "[suggest]") {
   CHECK(did_you_mean("near_shafts", sets) == "; did you mean 'near_shaft'?");
   CHECK(did_you_mean("pile_belo", std::vector<std::string>{"pile_below"}) == "; did you mean 'pile_below'?");
 }
+
+} // namespace test_suggest

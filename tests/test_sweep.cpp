@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+namespace test_sweep {
+
 using namespace stratum;
 using namespace stratum::sweep;
 
@@ -273,3 +275,5 @@ TEST_CASE("a point-file study: drained triaxial q = E eps_axial, and a failing s
   CHECK(bad.row.find("failed,\"") != std::string::npos);
   CHECK(bad.row.find("E = -5") != std::string::npos);
 }
+
+} // namespace test_sweep

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+namespace test_toolkit {
+
 using namespace stratum;
 
 namespace {
@@ -152,3 +154,5 @@ TEST_CASE("toolkit: K-G stiffness, projectors and principal stresses", "[toolkit
   s3[4] = 1e-9;
   CHECK((principal_tension(s3) - v).cwiseAbs().maxCoeff() < 1e-8);
 }
+
+} // namespace test_toolkit

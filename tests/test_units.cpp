@@ -24,6 +24,8 @@
 #include <fstream>
 #include <sstream>
 
+namespace test_units {
+
 namespace fs = std::filesystem;
 using stratum::Error;
 using stratum::Units;
@@ -434,3 +436,5 @@ TEST_CASE("an integer beyond 2^53 where a number is expected is a value, not an 
       Catch::Contains("k contains 9223372036854775807, outside (0, 10)"));
   CHECK(stratum::io::number(*toml::parse("x = 9007199254740993")["x"].node()) == 9007199254740992.0);
 }
+
+} // namespace test_units

@@ -13,6 +13,8 @@
 #include <numbers>
 #include <sstream>
 
+namespace test_verification {
+
 using namespace stratum;
 using stratum::testing::node_at;
 using stratum::testing::rel;
@@ -253,3 +255,5 @@ TEST_CASE("E2 circular load on an elastic half-space: centre settlement", "[veri
   for (int n = 0; n < static_cast<int>(m.mesh.nodes.size()); ++n) fy += m.load_ref[2 * n + 1];
   CHECK(-fy == Approx(q * std::numbers::pi * a * a).epsilon(1e-12));
 }
+
+} // namespace test_verification

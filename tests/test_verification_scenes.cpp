@@ -15,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+namespace test_verification_scenes {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -140,3 +142,5 @@ TEST_CASE("the point and global recorders against the Lame closed form", "[verif
   }
   fs::remove_all(work);
 }
+
+} // namespace test_verification_scenes

@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+namespace test_vtk_output {
+
 namespace fs = std::filesystem;
 using stratum::Mesh;
 using stratum::OutputArray;
@@ -417,3 +419,5 @@ TEST_CASE("VtkSeriesWriter in the background writes the same files and reports e
     w.finish(); // nothing pending any more
   }
 }
+
+} // namespace test_vtk_output

@@ -11,6 +11,7 @@
 // one that comes first in the file), 0 -> node sets. Every error names file:line:column.
 #include "stratum/mesh_io.hpp"
 
+#include "edge_key.hpp"
 #include "files.hpp"
 #include "gmsh_sections.hpp"
 
@@ -80,12 +81,6 @@ void orient(const Lexer& lx, QuadElement& q, const std::vector<Eigen::Vector2d>&
 
 std::string kind_of(const Cell& c) {
   return std::to_string(c.count()) + "-node " + (corners(c) == 3 ? "triangle" : "quadrangle");
-}
-
-std::uint64_t edge_key(int a, int b) {
-  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
-  return (hi << 32) | lo;
 }
 
 std::string group_name(const GmshFile& f, int dim, int tag) {

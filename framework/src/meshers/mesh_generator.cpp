@@ -2,6 +2,7 @@
 // where their nodes coincide.
 #include "../memory.hpp"
 
+#include "edge_key.hpp"
 #include "stratum/mesh_io.hpp"
 #include "suggest.hpp"
 
@@ -121,12 +122,6 @@ private:
   double x0_, y0_, tol_;
   std::unordered_map<std::uint64_t, int> map_;
 };
-
-std::uint64_t edge_key(int a, int b) {
-  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
-  return (hi << 32) | lo;
-}
 
 enum Side { bottom, right, top, left };
 constexpr const char* side_names[] = {"bottom", "right", "top", "left"};

@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+namespace test_arc_length {
+
 using namespace stratum;
 using stratum::testing::load_solver;
 using stratum::testing::MisesTruss;
@@ -234,3 +236,5 @@ TEST_CASE("arc_length: failures are statuses, not exceptions", "[plugins][arc_le
     }
   }
 }
+
+} // namespace test_arc_length

@@ -22,6 +22,8 @@
 #define REPORT(msg) INFO(msg)
 #endif
 
+namespace test_cam_clay {
+
 namespace {
 
 using stratum::Mat6;
@@ -581,3 +583,5 @@ TEST_CASE("cam_clay: one large undrained step of the closest point lands on the 
     CHECK(q / p == Approx(mcc_undrained_ratio(p, 1.0)).epsilon(1e-9));
   }
 }
+
+} // namespace test_cam_clay

@@ -15,6 +15,8 @@
 #include <cmath>
 #include <string>
 
+namespace test_cap_sandler {
+
 namespace {
 
 using stratum::Mat6;
@@ -635,3 +637,5 @@ TEST_CASE("cap_sandler: the loess point file runs and reaches the envelope", "[c
     CHECK(cs::rootJ2(s) == Approx(c.Fe(cs::J1c(s))).epsilon(2e-3));
   }
 }
+
+} // namespace test_cap_sandler

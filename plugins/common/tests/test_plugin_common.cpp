@@ -10,6 +10,8 @@
 #include <limits>
 #include <vector>
 
+namespace test_plugin_common {
+
 using namespace stratum;
 
 TEST_CASE("plugin common: a NaN or Inf residual ends the step, a finite one is recorded", "[common]") {
@@ -64,3 +66,5 @@ TEST_CASE("plugin common: a contact state stored as a number reads back, rounded
   CHECK(contact_history::state(static_cast<double>(ContactState::open) - 0.3) == ContactState::open);
   CHECK(contact_history::state(0.2) == ContactState::stick);
 }
+
+} // namespace test_plugin_common

@@ -31,6 +31,8 @@
 #include <string>
 #include <vector>
 
+namespace test_coulomb_elastoplastic {
+
 using namespace stratum;
 
 namespace {
@@ -265,3 +267,5 @@ TEST_CASE("coulomb_elastoplastic: tension cut-off, opening and reclosing",
     CHECK(pt.state() == ContactState::stick);
   }
 }
+
+} // namespace test_coulomb_elastoplastic

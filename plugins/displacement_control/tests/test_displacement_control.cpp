@@ -25,6 +25,8 @@
 #include <string>
 #include <vector>
 
+namespace test_displacement_control {
+
 using namespace stratum;
 using stratum::testing::load_solver;
 using stratum::testing::MisesTruss;
@@ -261,3 +263,5 @@ TEST_CASE("displacement_control: configuration errors are statuses", "[plugins][
           std::string::npos);
   }
 }
+
+} // namespace test_displacement_control

@@ -12,6 +12,8 @@
 #include <numbers>
 #include <vector>
 
+namespace test_drucker_prager {
+
 namespace {
 
 using stratum::Mat6;
@@ -475,3 +477,5 @@ TEST_CASE("drucker_prager: proportional path in 1 and 1000 steps", "[point]") {
     CHECK(one.q == Approx(T * p.c / p.H_c).epsilon(1e-10));
   }
 }
+
+} // namespace test_drucker_prager

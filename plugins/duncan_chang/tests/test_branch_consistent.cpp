@@ -16,6 +16,8 @@
 #include <numbers>
 #include <vector>
 
+namespace test_branch_consistent {
+
 namespace {
 
 using stratum::Mat6;
@@ -398,3 +400,5 @@ TEST_CASE("duncan_chang: the increment rule admits two exact equilibrium states 
     CHECK_FALSE(solves(C_t, Eigen::Vector3d(-up)));
   }
 }
+
+} // namespace test_branch_consistent

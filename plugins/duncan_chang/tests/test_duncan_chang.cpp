@@ -32,6 +32,8 @@
 #define REPORT(msg) INFO(msg)
 #endif
 
+namespace test_duncan_chang {
+
 namespace {
 
 using stratum::Mat6;
@@ -922,3 +924,5 @@ TEST_CASE("duncan_chang: a recovery within the difference step of its domain's e
   REPORT("axial column at the recovery's edge: relative difference from a forward difference " << err);
   CHECK(err < 1e-2);
 }
+
+} // namespace test_duncan_chang

@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+namespace test_duncan_chang_calibration { // one namespace per test file: the test files build in batches
+                                          // (unity)
+
 using Catch::Matchers::Contains;
 using namespace stratum::testing::calibration_tests;
 namespace cal = stratum::calibration;
@@ -124,3 +127,5 @@ TEST_CASE("fit: Duncan-Chang from curves with 1 % scatter stays close to the gen
                          << ", d " << fit.value("d") << ", " << fit.iterations << " iterations");
   CHECK(fit.iterations >= 2);
 }
+
+} // namespace test_duncan_chang_calibration

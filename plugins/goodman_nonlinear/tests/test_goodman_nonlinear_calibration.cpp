@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+namespace test_goodman_nonlinear_calibration { // one namespace per test file: the test files build in batches
+                                               // (unity)
+
 using Catch::Matchers::Contains;
 using namespace stratum::testing::calibration_tests;
 namespace cal = stratum::calibration;
@@ -58,3 +61,5 @@ TEST_CASE("fit: Goodman contact parameters from direct-shear curves", "[fit]") {
   check_rel("alpha", fit3.value("alpha"), g.alpha);
   check_rel("m", fit3.value("m"), g.m);
 }
+
+} // namespace test_goodman_nonlinear_calibration

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+namespace test_hardening_soil {
+
 namespace {
 
 using stratum::Mat6;
@@ -462,3 +464,5 @@ TEST_CASE("hardening_soil: every status bitmask has a name for the VTK legend",
   CHECK(names[2 | 8] == "Mohr-Coulomb failure + tension cut-off");
   CHECK(names[8 | 16 | 32] == "tension apex");
 }
+
+} // namespace test_hardening_soil

@@ -21,6 +21,8 @@
 #include <numbers>
 #include <vector>
 
+namespace test_hex_element {
+
 namespace {
 
 using stratum::CellType;
@@ -398,3 +400,5 @@ TEST_CASE("hex8: refuses cells that are not full hexahedra", "[plugins][hex][ele
                     Catch::Contains("non-positive Jacobian"));
   CHECK_THROWS_AS(HexElement(Options{4, false}), stratum::Error);
 }
+
+} // namespace test_hex_element

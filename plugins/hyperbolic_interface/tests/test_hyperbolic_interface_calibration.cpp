@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+namespace test_hyperbolic_interface_calibration { // one namespace per test file: the test files build in
+                                                  // batches (unity)
+
 using Catch::Matchers::Contains;
 using namespace stratum::testing::calibration_tests;
 namespace cal = stratum::calibration;
@@ -34,3 +37,5 @@ TEST_CASE("fit: hyperbolic (Clough-Duncan) interface parameters", "[fit]") {
   const std::string toml = stratum::write_fitted_toml(fit, "# test");
   CHECK_THAT(toml, Contains("\ngamma_w = 9.81\n"));
 }
+
+} // namespace test_hyperbolic_interface_calibration

@@ -26,6 +26,8 @@
 #include <numbers>
 #include <vector>
 
+namespace test_interface_elements {
+
 using namespace stratum;
 using stratum::interfaces::Contact2;
 using stratum::interfaces::InterfaceLine;
@@ -337,3 +339,5 @@ TEST_CASE("interface elements: a missing contact law is a status", "[plugins][in
   CHECK(e.o.status == Status::material_failure);
   CHECK(e.o.message.find("needs a ContactLaw") != std::string::npos);
 }
+
+} // namespace test_interface_elements

@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+namespace test_kinsol {
+
 using namespace stratum;
 using stratum::testing::load_solver;
 using stratum::testing::SpringChain;
@@ -186,3 +188,5 @@ TEST_CASE("kinsol: failures are statuses naming the KINSOL flag", "[plugins][kin
     CHECK(rep.outcome.message.find("inside KINSOL") != std::string::npos);
   }
 }
+
+} // namespace test_kinsol

@@ -15,6 +15,8 @@
 #include <cmath>
 #include <optional>
 
+namespace test_lade {
+
 namespace {
 
 using stratum::Mat6;
@@ -373,3 +375,5 @@ TEST_CASE("lade: point_status names the cap, the cone with the cap, the cone alo
   CHECK(both);
   CHECK(soft);
 }
+
+} // namespace test_lade

@@ -8,6 +8,8 @@
 
 #include <vector>
 
+namespace test_linear_elastic {
+
 namespace {
 
 using stratum::Mat6;
@@ -153,3 +155,5 @@ TEST_CASE("linear_elastic: non-positive-definite constants are rejected", "[poin
   CHECK_THROWS_AS(le::LinearElastic(nonsym), stratum::Error);
   CHECK_NOTHROW(le::LinearElastic(le::isotropic_stiffness(1.0e4, 0.4999)));
 }
+
+} // namespace test_linear_elastic

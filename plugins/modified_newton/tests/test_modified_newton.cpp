@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+namespace test_modified_newton {
+
 using namespace stratum;
 using stratum::testing::load_solver;
 using stratum::testing::SpringChain;
@@ -193,3 +195,5 @@ TEST_CASE("modified_newton, initial_stiffness: failures are statuses", "[plugins
     }
   }
 }
+
+} // namespace test_modified_newton

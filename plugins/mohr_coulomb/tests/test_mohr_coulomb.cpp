@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+namespace test_mohr_coulomb {
+
 namespace {
 
 using stratum::Mat6;
@@ -655,3 +657,5 @@ TEST_CASE("mohr_coulomb: Tresca (phi = 0), consistent tangent against central di
   const Mat6 fd = fd_tangent(m, s_n, de);
   CHECK((fd - r.tangent).norm() < 1e-5 * r.tangent.norm());
 }
+
+} // namespace test_mohr_coulomb

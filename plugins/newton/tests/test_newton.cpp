@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+namespace test_newton {
+
 using namespace stratum;
 using stratum::testing::load_solver;
 using stratum::testing::SpringChain;
@@ -197,3 +199,5 @@ TEST_CASE("newton: failures are statuses, not exceptions", "[plugins][newton]") 
     CHECK(rep.outcome.message == "spring B broke");
   }
 }
+
+} // namespace test_newton

@@ -26,6 +26,9 @@
 #include <string>
 #include <vector>
 
+namespace test_nonlinear_elastic_no_tension { // one namespace per test file: the test files build in batches
+                                              // (unity)
+
 using namespace stratum;
 
 namespace {
@@ -205,3 +208,5 @@ TEST_CASE("nonlinear_elastic_no_tension: a non-finite increment is a status",
   CHECK(r.o.status == Status::non_finite);
   CHECK(r.o.message.find("nonlinear_elastic_no_tension") != std::string::npos);
 }
+
+} // namespace test_nonlinear_elastic_no_tension

@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+namespace test_quad_element {
+
 namespace {
 
 using stratum::Constitutive;
@@ -920,3 +922,5 @@ TEST_CASE("quad: failures are reported as outcomes naming the element and point"
         stratum::Error);
   }
 }
+
+} // namespace test_quad_element

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+namespace test_thin_layer_hyperbolic {
+
 using namespace stratum;
 using namespace stratum::testing;
 namespace tl = stratum::thin_layer_hyperbolic;
@@ -256,3 +258,5 @@ TEST_CASE("thin_layer_hyperbolic: C1 rigid pile with a hyperbolic thin layer, sh
     CHECK(std::abs(curve.back().second - capacity) <= 0.01 * capacity);
   }
 }
+
+} // namespace test_thin_layer_hyperbolic

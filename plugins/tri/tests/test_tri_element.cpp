@@ -26,6 +26,8 @@
 #include <unistd.h>
 #include <vector>
 
+namespace test_tri_element {
+
 using namespace stratum;
 using stratum::testing::node_at;
 using stratum::testing::rel;
@@ -586,3 +588,5 @@ TEST_CASE("tri: Hill thick cylinder with Tresca (phi = 0) on curved 6-node trian
     CHECK(std::abs(ub - u_b(P)) / u_b(P) < 2e-3);
   }
 }
+
+} // namespace test_tri_element

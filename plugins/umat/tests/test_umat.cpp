@@ -29,6 +29,8 @@
 #include <sstream>
 #include <string>
 
+namespace test_umat {
+
 using namespace stratum;
 namespace fs = std::filesystem;
 
@@ -694,3 +696,5 @@ TEST_CASE("umat: stratum check names the library line; stratum run ends a NaN ru
   CHECK(code == 2);
   CHECK(err.find("non-finite STRESS") != std::string::npos);
 }
+
+} // namespace test_umat

@@ -23,6 +23,8 @@
 #include <string>
 #include <vector>
 
+namespace test_umat_conventions {
+
 using namespace stratum;
 namespace fs = std::filesystem;
 
@@ -451,3 +453,5 @@ TEST_CASE("umat utilities: XIT leaves the guarded call, which reports it", "[uma
   reached = 0;
   CHECK(stratum_umat_guarded_call(&calls_xit, &reached) == 1);
 }
+
+} // namespace test_umat_conventions

@@ -33,6 +33,8 @@
 #include <string>
 #include <vector>
 
+namespace test_variable_kg {
+
 using namespace stratum;
 
 namespace {
@@ -265,3 +267,5 @@ TEST_CASE("variable_kg: axial extension ends at the tension cut-off", "[plugins]
   CHECK(l->m->status_names() ==
         std::vector<std::string>{"below failure", "failed (S >= 0.99)", "tension cut-off"});
 }
+
+} // namespace test_variable_kg

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+namespace test_von_mises {
+
 namespace {
 
 using stratum::Mat6;
@@ -303,3 +305,5 @@ TEST_CASE("von_mises: material update, history and schema", "[point]") {
   CHECK_THAT(f.message, Catch::Contains("von_mises (element 3, point 1)"));
   CHECK_THAT(f.message, Catch::Contains("modified_euler"));
 }
+
+} // namespace test_von_mises
