@@ -270,7 +270,19 @@ void print_stop(const RunSummary& s) {
   if (s.stop_reason == StopReason::collapse || s.stop_reason == StopReason::numerical) {
     std::ostringstream ratio;
     ratio << std::setprecision(3) << s.stiffness_ratio;
-    if (s.stop_reason == StopReason::collapse)
+    std::ostringstream attempt;
+    attempt << std::setprecision(3) << s.attempt_stiffness_ratio;
+    if (s.stop_reason == StopReason::collapse && s.stiffness_ratio >= s.collapse_stiffness)
+      // The accepted steps were stiff up to the stop (a plateau reached by force control): the
+      // failed attempt's iterations are the evidence.
+      std::cout
+          << "stopped: collapse: a load step found no equilibrium after its cut-backs, and the "
+             "structure gave way under the load: the last attempt, at the smallest increment, "
+             "went along the load as if its stiffness were "
+          << attempt.str() << " of the stage's first step's (the accepted steps stayed at least "
+          << ratio.str()
+          << "); the table ends at the last converged level, less than that increment below the limit load\n";
+    else if (s.stop_reason == StopReason::collapse)
       std::cout << "stopped: collapse: a load step found no equilibrium after its cut-backs, and the "
                    "structure had lost its stiffness (over the last tenth of the load, down to "
                 << ratio.str()

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -81,6 +82,13 @@ struct RunSummary {
   /// For "collapse"/"numerical": the current stiffness of the last converged step over that of the
   /// stage's first (1 when there was none); below the stage's collapse_stiffness it is a collapse.
   double stiffness_ratio = 1.0;
+  /// For "collapse"/"numerical": the current stiffness the step that ended the stage showed in its
+  /// last attempt (load control: its load-factor increment over the farthest displacement along the
+  /// load pattern its iterations reached) over that of the stage's first step; infinite when that
+  /// attempt gives no evidence (path following, a failure by NaN or Inf or by a material's update).
+  /// Below collapse_stiffness it is a collapse too (docs/design.md, "How a stage ends").
+  double attempt_stiffness_ratio = std::numeric_limits<double>::infinity();
+  double collapse_stiffness = 0.1;      ///< for "collapse"/"numerical": the stage's collapse_stiffness
   std::vector<std::string> checkpoints; ///< written, in order
   std::vector<CheckResult> checks;      ///< the scene's [[checks]] on the last recorded values
   /// Head load (kN) and settlement (mm; in other [units]: force, Units::small_length) per converged level of

@@ -7,6 +7,7 @@
 
 #include <toml++/toml.h>
 
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -40,8 +41,12 @@ std::string summary_toml(const RunSummary& summary, const std::string& scene, st
   line(o, "ended", std::string(ended));
   line(o, "stop_reason", std::string(stop_reason_name(summary.stop_reason)));
   line(o, "stop_message", summary.stop_message);
-  if (summary.stop_reason == StopReason::collapse || summary.stop_reason == StopReason::numerical)
+  if (summary.stop_reason == StopReason::collapse || summary.stop_reason == StopReason::numerical) {
     line(o, "stiffness_ratio", summary.stiffness_ratio);
+    // The last attempt's evidence, where it gives any (docs/design.md, "How a stage ends").
+    if (std::isfinite(summary.attempt_stiffness_ratio))
+      line(o, "attempt_stiffness_ratio", summary.attempt_stiffness_ratio);
+  }
   line(o, "status", error.empty() ? std::string(to_string(summary.outcome.status)) : std::string("error"));
   line(o, "message", error.empty() ? summary.outcome.message : error);
   line(o, "stages", static_cast<std::int64_t>(stages));

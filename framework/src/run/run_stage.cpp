@@ -7,6 +7,7 @@
 #include "stratum/step_control.hpp"
 
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace stratum {
@@ -45,6 +46,16 @@ public:
 
   /// The first step's stiffness was positive (a ratio against it means something).
   [[nodiscard]] bool has_first() const { return first_ > 0.0; }
+
+  /// The stiffness a failed load-controlled attempt showed, over the first step's: its load-factor
+  /// increment over the farthest work-conjugate displacement its iterations reached
+  /// (StaticProblem::Reach). Infinite when it gives no evidence: no first step, no increment, or
+  /// no iterate that went forward along the load pattern.
+  [[nodiscard]] double attempt_ratio(const StaticProblem::Reach& a) const {
+    const double dl = a.lambda - a.lambda_n;
+    if (!(first_ > 0.0) || !(dl > 0.0) || !(a.along > 0.0)) return std::numeric_limits<double>::infinity();
+    return dl / a.along / first_;
+  }
 
   // The least stiffness over the last tenth of the load reached: a single stiff step just
   // before the stop (a contact closing, a point unloading) does not hide that the curve
@@ -139,14 +150,37 @@ void collect_steps(StageResult& res, int stage, RunSummary& summary) {
   }
 }
 
-/// A failed step: in an until_failure stage a stop (collapse or numerical, from the stiffness
-/// path), otherwise the run's failure.
+/// Failures that can mean "no equilibrium at this load": the iteration ran out of iterations,
+/// diverged or met a singular tangent. NaN or Inf, a constitutive update that found no stress
+/// (material_failure) and a fatal error say that a computation failed, not where equilibrium is.
+bool can_mean_no_equilibrium(Status s) {
+  return s == Status::not_converged || s == Status::diverged || s == Status::singular;
+}
+
+/// A failed step: in an until_failure stage a stop (collapse or numerical), otherwise the run's
+/// failure. The stop is a collapse when the structure had lost its stiffness, by either of two
+/// readings of Bergan's current stiffness against the stage's first step (README, docs/design.md
+/// "How a stage ends"):
+/// - the accepted steps: the least over the last tenth of the load below collapse_stiffness;
+/// - the attempt that ended the stage (load control): cut back to the smallest increment dl
+///   allowed, its iterations still found no equilibrium and went further along the load pattern
+///   than dl / (collapse_stiffness S_1), the displacement a structure that kept collapse_stiffness
+///   of its first stiffness S_1 would need for dl. Its stiffness dl / (F_ref . du), du the farthest
+///   iterate, is then below collapse_stiffness: the load could not be raised by dl. This is what a
+///   plateau reached by force control looks like (a perfectly plastic shaft slipping all at once):
+///   the accepted steps stay stiff up to the limit and only the attempts past it move freely.
+///   Only failures that can mean a missing equilibrium count (can_mean_no_equilibrium).
 void stage_failed(const stage::Stage& st, const StageResult& res, const StiffnessPath& stiffness,
-                  RunSummary& summary) {
+                  const StaticProblem::Reach& last_attempt, bool load_control, RunSummary& summary) {
   std::string message = "stage \"" + st.name + "\": " + res.outcome.message;
   if (st.until_failure && res.outcome.status != Status::fatal) { // a fatal error is no collapse
     summary.stiffness_ratio = stiffness.ratio();
-    const bool collapse = stiffness.has_first() && summary.stiffness_ratio < st.collapse_stiffness;
+    summary.collapse_stiffness = st.collapse_stiffness;
+    summary.attempt_stiffness_ratio = load_control && can_mean_no_equilibrium(res.outcome.status)
+                                          ? stiffness.attempt_ratio(last_attempt)
+                                          : std::numeric_limits<double>::infinity();
+    const bool collapse = stiffness.has_first() && (summary.stiffness_ratio < st.collapse_stiffness ||
+                                                    summary.attempt_stiffness_ratio < st.collapse_stiffness);
     summary.stop_reason = collapse ? StopReason::collapse : StopReason::numerical;
     summary.stop_message = std::move(message);
   } else {
@@ -236,6 +270,17 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   Eigen::VectorXd u = m.restrict_free(m.u);
   const StepSettings stepping = stage_stepping(settings, st);
   StepCallbacks cb = state_callbacks(m, *ls);
+  // How far each attempt's iterations went along the load pattern (StaticProblem::Reach): kept
+  // for the last attempt that failed, the evidence stage_failed reads.
+  StaticProblem::Reach last_attempt;
+  cb.commit = [&problem, commit = cb.commit] {
+    commit();
+    (void)problem.take_reach();
+  };
+  cb.revert = [&problem, &last_attempt, revert = cb.revert] {
+    revert();
+    last_attempt = problem.take_reach();
+  };
   int step = 0;
   bool written = false;
   std::vector<StepRecord> live; // this stage's accepted steps, for the tables written during it
@@ -275,7 +320,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   if (writer && st.vtk && step > 0 && !written)
     timed(summary.times.output, [&] { write_step(*writer, view()); });
   if (!res.outcome.ok()) {
-    stage_failed(st, res, stiffness, summary);
+    stage_failed(st, res, stiffness, last_attempt, !solver->path_following(), summary);
     return false;
   }
   if (settled || interrupted) {

@@ -9,6 +9,7 @@
 #include "stratum/solver.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +30,7 @@ public:
     m_.clock.total_time = start_ + m_.lambda;
     m_.clock.dtime = lambda - m_.lambda;
     m_.expand(u, lambda, full_);
+    note_reach(lambda);
     Outcome o = timed(times_.assembly, [&] { return a_.assemble(m_, full_, fint_, k); });
     ++times_.assemblies;
     if (!o.ok()) return o;
@@ -71,7 +73,34 @@ public:
   }
   const Eigen::VectorXd& internal_force() const { return fint_; }
 
+  /// How far the evaluations of one attempted step went along the load pattern: the largest
+  /// |F_ref . (u - u_n)| (work-conjugate displacement, either way) of the unknowns evaluated, from
+  /// the committed state (Model::u at Model::lambda), and the load factor they were evaluated at.
+  /// Either way: a tangent that has lost its stiffness in a mode the load works on sends Newton's
+  /// correction along that mode with the sign of a pivot near zero, which round-off decides.
+  struct Reach {
+    double lambda_n = 0.0; ///< the committed load factor the attempt started from
+    double lambda = 0.0;   ///< the load factor of its last evaluation (load control: its target)
+    double along = 0.0;    ///< max |F_ref . (u - u_n)| over its evaluations (kN m; NaN iterates skipped)
+    int evaluations = 0;
+  };
+  /// The reach of the evaluations since the last call (the attempt just committed or reverted),
+  /// and starts a new one. Watching changes no number of the solution.
+  Reach take_reach() {
+    const Reach r = reach_;
+    reach_ = Reach{};
+    return r;
+  }
+
 private:
+  void note_reach(double lambda) {
+    const double along = std::abs(m_.load_ref.dot(full_ - m_.u));
+    if (reach_.evaluations++ == 0) reach_.lambda_n = m_.lambda;
+    reach_.lambda = lambda;
+    if (std::isfinite(along)) reach_.along = std::max(reach_.along, along);
+  }
+
+  Reach reach_;
   Model& m_;
   const Assembler& a_;
   LinearSolver& ls_;

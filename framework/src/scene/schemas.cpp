@@ -288,8 +288,10 @@ TableKeys stage_keys(long long max_cutbacks, double error_tolerance, bool vtk, l
   s.real("collapse_stiffness", "-",
          "with until_failure: the stop counts as a collapse when the least current stiffness of the "
          "steps over the last tenth of the load reached (Bergan's parameter: dlambda / (F_ref . du) "
-         "under load control) is below this fraction of the stage's first step; otherwise it is a "
-         "numerical failure (exit 4)")
+         "under load control) is below this fraction of the stage's first step, or (load control) "
+         "when the failed step's last attempt, at its smallest increment, found no equilibrium while "
+         "its iterates went further along the load than that stiffness allows (a plateau); "
+         "otherwise it is a numerical failure (exit 4)")
       .greater_than(0)
       .at_most(1)
       .defaults_to(0.1);
