@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+namespace test_collapse_plateau {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -165,3 +167,5 @@ TEST_CASE("the attempt's evidence leaves a stiff structure's numerical stop and 
   CHECK(attempt > 0.5);
   CHECK(attempt < 2.0);
 }
+
+} // namespace test_collapse_plateau

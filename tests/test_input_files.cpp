@@ -79,7 +79,9 @@ pid_t start(const std::vector<std::string>& args, const fs::path& dir, std::opti
     if (o < 0 || e < 0) ::_exit(126);
     ::dup2(o, 1);
     ::dup2(e, 2);
-    ::setenv("STRATUM_PLUGIN_PATH", "", 1);
+    // Only the build tree's plugins, unless a case names a folder (STRATUM_TEST_PLUGIN_PATH).
+    const char* plugin_path = ::getenv("STRATUM_TEST_PLUGIN_PATH");
+    ::setenv("STRATUM_PLUGIN_PATH", plugin_path ? plugin_path : "", 1);
     if (limit) {
       const rlimit r{limit->bytes, limit->bytes};
       if (::setrlimit(limit->resource, &r) != 0) ::_exit(126);
@@ -196,6 +198,17 @@ TEST_CASE("input files: a device, a FIFO or a file over its size limit is refuse
         "/dev/zero: not a regular file but a character device; a CSV file must be a regular file");
     CHECK(!fs::exists(d / "s"));
     CHECK(!fs::exists(d / "p.csv"));
+  }
+  SECTION("a plugin manifest in a folder of STRATUM_PLUGIN_PATH") {
+    // A FIFO named *.plugin would block the reader; it is refused in one line instead.
+    fs::create_directories(d / "plugins");
+    REQUIRE(::mkfifo((d / "plugins" / "blocked.plugin").c_str(), 0644) == 0);
+    REQUIRE(::setenv("STRATUM_TEST_PLUGIN_PATH", (d / "plugins").c_str(), 1) == 0);
+    const Result r = cli({"plugins"}, d);
+    ::unsetenv("STRATUM_TEST_PLUGIN_PATH");
+    expect_one_line(r, 1,
+                    "blocked.plugin: not a regular file but a FIFO (named pipe); a plugin manifest must be a "
+                    "regular file");
   }
   SECTION("a mesh and a checkpoint through their readers") {
     auto message = [](auto&& f) {

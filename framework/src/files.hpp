@@ -37,6 +37,7 @@ inline constexpr FileLimit checkpoint{4096, "checkpoint"};
 inline constexpr FileLimit csv{256, "CSV file"};
 inline constexpr FileLimit journal{1024, "sweep journal"};
 inline constexpr FileLimit manifest{1, "plugin manifest"};
+inline constexpr FileLimit library{4096, "plugin library"}; ///< read whole only for its checksum
 } // namespace file_limits
 
 /// Writes `text` to `path` atomically; creates the parent folders. Throws WriteError naming

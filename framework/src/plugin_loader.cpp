@@ -1,5 +1,6 @@
 #include "stratum/plugin_loader.hpp"
 
+#include "files.hpp"
 #include "stratum/plugin.hpp"
 #include "suggest.hpp"
 
@@ -8,7 +9,6 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -42,7 +42,10 @@ PluginCatalog::PluginCatalog(std::vector<std::string> directories) : dirs_(std::
     for (const auto& m : manifests) {
       fs::path lib = m;
       lib.replace_extension(".so");
-      std::ifstream in(m);
+      // A manifest is read through the guarded reader: a FIFO or a device named *.plugin in a
+      // plugin folder is refused in one line instead of blocking or filling memory.
+      std::istringstream in(
+          read_text_file(m.string(), SourceLocation{}, "plugin manifest", file_limits::manifest));
       std::string line;
       int lineno = 0;
       while (std::getline(in, line)) {

@@ -1,10 +1,10 @@
 #include "scene_fingerprint.hpp"
 
+#include "files.hpp"
 #include "scene/toml_check.hpp"
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace stratum {
@@ -123,12 +123,10 @@ std::vector<FingerprintPart> scene_parts(const toml::table& root, const std::str
 std::vector<FingerprintPart> library_parts(const std::vector<std::string>& paths) {
   std::vector<FingerprintPart> parts;
   for (const auto& path : paths) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    if (!in) throw Error("cannot read the plugin library '" + path + "' to record it in checkpoints");
+    // Through the guarded reader (a regular file, at most file_limits::library), as every input.
+    const std::string bytes = read_text_file(path, SourceLocation{}, "plugin library", file_limits::library);
     parts.push_back({"plugin library " + std::filesystem::path(path).filename().string(),
-                     digest_of(bytes.str()),
+                     digest_of(bytes),
                      FingerprintPart::if_both,
                      {}});
   }
