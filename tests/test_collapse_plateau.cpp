@@ -3,6 +3,8 @@
 // show that the load could not be raised (framework/src/run/run_stage.cpp, stage_failed;
 // docs/design.md, "How a stage ends"). Each case runs the stratum program on a scene of
 // tests/scenes and reads its summary.toml.
+#include "scene_helpers.hpp"
+
 #include <catch2/catch.hpp>
 #include <toml++/toml.h>
 
@@ -35,19 +37,6 @@ fs::path scratch() {
   return d;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void replace(std::string& text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  text.replace(at, from.size(), to);
-}
-
 struct Run {
   int code = -1;
   std::string out, err;
@@ -63,14 +52,16 @@ Run run(const std::string& name, const std::string& text) {
   const int status = std::system(cmd.c_str());
   Run r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(dir / (name + ".out"));
-  r.err = slurp(dir / (name + ".err"));
+  r.out = stratum::testing::read_text((dir / (name + ".out")).string());
+  r.err = stratum::testing::read_text((dir / (name + ".err")).string());
   if (fs::exists(dir / name / "summary.toml"))
     r.summary = toml::parse_file((dir / name / "summary.toml").string());
   return r;
 }
 
-std::string scene(const std::string& relative) { return slurp(fs::path(STRATUM_SOURCE_DIR) / relative); }
+std::string scene(const std::string& relative) {
+  return stratum::testing::read_text(stratum::testing::source_path(relative));
+}
 
 // The plateau of tests/scenes/collapse/plateau_pile.toml: the whole shaft at its adhesion,
 // P_lim = c_a 2 pi r L with c_a = 20 kPa, r = 0.25 m, L = 4 m (no base: nothing is below it).
@@ -107,7 +98,8 @@ TEST_CASE("a force-controlled run to a plateau stops as a collapse just below th
   CHECK(last > 0.99 * p_lim);
   CHECK(last < p_target);
   // The pile's shaft carries it all: the shaft load of the last row is the head load (no base).
-  const std::string comp = slurp(scratch() / "plateau" / "curves" / "settlement_components.csv");
+  const std::string comp =
+      stratum::testing::read_text((scratch() / "plateau" / "curves" / "settlement_components.csv").string());
   const auto row = comp.rfind('\n', comp.size() - 2);
   std::vector<double> f;
   std::stringstream ls(comp.substr(row + 1));
@@ -126,10 +118,11 @@ TEST_CASE("a NaN from the soil below the plateau still stops as a numerical fail
   // load fails with a non-finite stress. NaN says that a computation failed, not that the
   // structure gave way: exit 4, and the attempt gives no evidence (no attempt_stiffness_ratio).
   std::string text = scene("tests/scenes/collapse/plateau_pile.toml");
-  replace(text, "model = \"linear_elastic\"\nE = 5.0e5\nnu = 0.3\n",
-          "model = \"umat\"\nlibrary = \"" + std::string(STRATUM_UMAT_DIR) +
-              "/umat_mises.so\"\nsymbol = \"mises_umat\"\n"
-              "props = [5.0e5, 0.3, 1.0e9, 0.0, 0.0, 5.0e-5, 0.0]\nnstatv = 1\nsymmetric_tangent = true\n");
+  text = stratum::testing::replace_once(
+      text, "model = \"linear_elastic\"\nE = 5.0e5\nnu = 0.3\n",
+      "model = \"umat\"\nlibrary = \"" + std::string(STRATUM_UMAT_DIR) +
+          "/umat_mises.so\"\nsymbol = \"mises_umat\"\n"
+          "props = [5.0e5, 0.3, 1.0e9, 0.0, 0.0, 5.0e-5, 0.0]\nnstatv = 1\nsymmetric_tangent = true\n");
   const Run r = run("plateau_nan", text);
   INFO(r.out << r.err);
   CHECK(r.code == 4);
@@ -157,8 +150,8 @@ TEST_CASE("the attempt's evidence leaves a stiff structure's numerical stop and 
   // nearly elastic: the last attempt's iterations stay where a stiff structure's would (0.90 of
   // the first step's stiffness measured), so the stop stays numerical, exit 4.
   std::string two = text;
-  replace(two, "max_iterations = 30", "max_iterations = 2");
-  replace(two, "max_cutbacks = 8", "max_cutbacks = 1");
+  two = stratum::testing::replace_once(two, "max_iterations = 30", "max_iterations = 2");
+  two = stratum::testing::replace_once(two, "max_cutbacks = 8", "max_cutbacks = 1");
   const Run n = run("hill_numerical", two);
   INFO(n.out << n.err);
   CHECK(n.code == 4);
