@@ -33,6 +33,10 @@ struct StepClock {
   double dtime = 0.0;      ///< time increment of the step (static: lambda - lambda_n)
   int stage = 0;           ///< stage number, 1-based (0: no staged analysis, e.g. a unit test)
   int increment = 0;       ///< load step within the stage, 1-based; a retried step keeps its number
+  /// True in a consolidation stage: step_time and dtime are physical time (s) and transient fields
+  /// (the pore pressure) flow over dtime. False in a static stage, whose time is its load factor
+  /// and which takes no physical time: nothing flows in it (undrained).
+  bool transient = false;
 };
 
 /// Where and when the point is: for messages, and for materials that depend on position, size or

@@ -108,6 +108,8 @@ struct Model {
   void expand(const Eigen::VectorXd& free, double lambda, Eigen::VectorXd& full) const;
   /// Free unknowns of a full-size vector.
   [[nodiscard]] Eigen::VectorXd restrict_free(const Eigen::VectorXd& full) const;
+  /// True when the tangent is symmetric and may go to a symmetric (LDL^T, Cholesky) solver: every
+  /// law says so and the model has no field besides the displacements (a u-p matrix is indefinite).
   [[nodiscard]] bool symmetric() const;
   /// The free unknowns (indices into the free vector) of field `field` at the nodes of the node
   /// set `set`; empty when the mesh has no such set or none of its nodes has a free one.

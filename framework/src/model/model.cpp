@@ -160,6 +160,10 @@ std::vector<Eigen::Index> Model::node_set_free_dofs(const std::string& set, int 
 }
 
 bool Model::symmetric() const {
+  // Fields besides the displacements (a pore pressure) make a saddle-point matrix: symmetric but
+  // indefinite, with zero or tiny diagonal entries where a fluid is (nearly) incompressible. The
+  // LDL^T and Cholesky factorizations do not pivot, so such a model takes the LU solvers.
+  if (static_cast<int>(dofs.fields.size()) > dim()) return false;
   for (const auto& dm : domains) {
     if (dm.law.material && !dm.law.material->symmetric_tangent()) return false;
     if (dm.law.contact && !dm.law.contact->symmetric_tangent()) return false;

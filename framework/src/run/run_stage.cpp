@@ -188,6 +188,17 @@ void stage_failed(const stage::Stage& st, const StageResult& res, const Stiffnes
   }
 }
 
+/// The largest |p| of the excess pore pressure at the nodes that carry one (0 without the field).
+double largest_excess_pressure(const Model& m) {
+  const int f = m.dofs.field("p");
+  double largest = 0.0;
+  if (f < 0) return largest;
+  for (std::size_t n = 0; n + 1 < m.dofs.node_first.size(); ++n)
+    if (const int d = m.dofs.dof(static_cast<int>(n), f); d >= 0)
+      largest = std::max(largest, std::abs(m.u[d]));
+  return largest;
+}
+
 } // namespace
 
 void Analysis::Impl::record_pile(const PileObservation& o, RunSummary& summary) {
@@ -241,10 +252,13 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
 
   // ---- the stage's problem: equilibrium at its start, the target load at its end
   m.rebuild_dofs();
-  // The stage's time (stratum/material.hpp, StepClock): pseudo-time 1 per stage, so the total
-  // time at its start is the number of stages before it (a restart continues it); the problem
-  // sets the times of each evaluation from the load factor.
-  m.clock = StepClock{0.0, static_cast<double>(k), 0.0, static_cast<int>(k) + 1, 1};
+  // The stage's time (stratum/material.hpp, StepClock): a static stage lasts one unit of
+  // pseudo-time, a consolidation stage its duration in seconds, so the total time at its start is
+  // where the stages before it ended (state.time; a checkpoint keeps it, so a restart continues
+  // it); the problem sets the times of each evaluation from the load factor.
+  const double stage_start = state.time;
+  const double stage_length = st.consolidation ? st.duration : 1.0;
+  m.clock = StepClock{0.0, stage_start, 0.0, static_cast<int>(k) + 1, 1, st.consolidation};
   const Assembler assembler(m, settings.reuse_linear_stiffness, settings.threads);
   auto ls = std::make_unique<TimedLinearSolver>(
       make_linear_solver(settings.linear_solver, m.symmetric(), m.dofs.free_count), summary.times,
@@ -255,7 +269,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   for (const auto& l : loads) add_load(m, l, target);
   record_stage_loads(loads_before);
   set_stage_load(m, f0, target);
-  StaticProblem problem(m, assembler, *ls, summary.times);
+  StaticProblem problem(m, assembler, *ls, summary.times, st.consolidation ? st.duration : 0.0);
 
   // ---- the pile's quantities (output/pile_monitor.hpp)
   std::vector<std::size_t> itf;
@@ -294,7 +308,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     step = rec.step;
     state.stage_step = step;
     ++summary.steps_done;
-    state.time = static_cast<double>(k) + m.lambda;
+    state.time = stage_start + m.lambda * stage_length;
     if (options.on_step) options.on_step(step, nominal_steps, m.lambda, rep);
     if (options.on_record) options.on_record(rec);
     // first: the step's VTK field data carries the head load it records
@@ -307,11 +321,13 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     if (seconds_since(last_tables) >= settings.tables_every)
       timed(summary.times.output, [&] { update_tables(summary, live); });
   };
-  bool settled = false, interrupted = false;
+  bool settled = false, interrupted = false, dissipated = false;
   const bool watch = pile.watches_settlement();
-  if (watch || options.interrupted)
+  const bool watch_pressure = st.consolidation && st.until_excess_pressure > 0.0;
+  if (watch || watch_pressure || options.interrupted)
     cb.stop = [&](double, const Eigen::VectorXd&) {
       if (watch && (settled = pile.settlement_reached(m))) return true;
+      if (watch_pressure && (dissipated = largest_excess_pressure(m) < st.until_excess_pressure)) return true;
       return interrupted = options.interrupted && options.interrupted();
     };
   solver = sm.solver_factory->create(sm.solver_params);
@@ -323,6 +339,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     stage_failed(st, res, stiffness, last_attempt, !solver->path_following(), summary);
     return false;
   }
+  if (dissipated) state.time = stage_start + m.lambda * stage_length; // the stage ends early, normally
   if (settled || interrupted) {
     summary.stop_reason = settled ? StopReason::settlement : StopReason::interrupted;
     return false;

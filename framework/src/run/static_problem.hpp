@@ -19,16 +19,20 @@ namespace stratum {
 /// Static equilibrium of the model: R(u, lambda) = F_base + lambda F_ref - F_int(u).
 class StaticProblem final : public NonlinearProblem {
 public:
-  StaticProblem(Model& m, const Assembler& a, LinearSolver& ls, RunTimes& times)
-      : m_(m), a_(a), ls_(ls), times_(times), start_(m.clock.total_time - m.clock.step_time) {
+  /// `duration`: the physical time of a consolidation stage (s), over which its load factor runs
+  /// from 0 to 1; 0 in a static stage, whose time is the load factor itself.
+  StaticProblem(Model& m, const Assembler& a, LinearSolver& ls, RunTimes& times, double duration = 0.0)
+      : m_(m), a_(a), ls_(ls), times_(times), start_(m.clock.total_time - m.clock.step_time),
+        scale_(duration > 0.0 ? duration : 1.0) {
     ref_ = m.restrict_free(m.load_ref);
+    weigh_other_fields();
   }
   Eigen::Index size() const override { return m_.dofs.free_count; }
   Outcome evaluate(const Eigen::VectorXd& u, double lambda, Eigen::VectorXd& r, SparseMatrix* k) override {
     // The time of the step being tried: its start is the committed load factor (StepClock).
-    m_.clock.step_time = m_.lambda;
-    m_.clock.total_time = start_ + m_.lambda;
-    m_.clock.dtime = lambda - m_.lambda;
+    m_.clock.step_time = m_.lambda * scale_;
+    m_.clock.total_time = start_ + m_.clock.step_time;
+    m_.clock.dtime = (lambda - m_.lambda) * scale_;
     m_.expand(u, lambda, full_);
     note_reach(lambda);
     Outcome o = timed(times_.assembly, [&] { return a_.assemble(m_, full_, fint_, k); });
@@ -37,6 +41,7 @@ public:
     r.resize(size());
     for (int d = 0; d < m_.dofs.total(); ++d)
       if (const int e = m_.dofs.eq[d]; e >= 0) r[e] = m_.load_base[d] + lambda * m_.load_ref[d] - fint_[d];
+    if (!other_rows_.empty()) weigh(r, k);
     return {};
   }
   SparseMatrix make_tangent() const override { return a_.make_matrix(); }
@@ -93,6 +98,21 @@ public:
   }
 
 private:
+  /// The equations of fields besides the displacements (a pore pressure's continuity, a volume in
+  /// m3) are multiplied by one factor per stage, c = mean |K_uu diagonal| / mean over their
+  /// unknowns of the largest |K_up| (kPa/m: a volume error becomes the force it would cause), so
+  /// that one residual norm weighs both kinds of equation: unscaled, a continuity residual would
+  /// pass any force tolerance unsolved. Scaling rows changes no Newton correction (the tangent's
+  /// rows are scaled alike), only the norms the convergence test and the line search read.
+  void weigh_other_fields();
+  void weigh(Eigen::VectorXd& r, SparseMatrix* k) const {
+    for (Eigen::Index e : other_rows_) r[e] *= weight_;
+    if (k == nullptr) return;
+    for (int j = 0; j < k->outerSize(); ++j)
+      for (SparseMatrix::InnerIterator it(*k, j); it; ++it)
+        if (is_other_[static_cast<std::size_t>(it.row())]) it.valueRef() *= weight_;
+  }
+
   void note_reach(double lambda) {
     const double along = std::abs(m_.load_ref.dot(full_ - m_.u));
     if (reach_.evaluations++ == 0) reach_.lambda_n = m_.lambda;
@@ -106,6 +126,10 @@ private:
   LinearSolver& ls_;
   RunTimes& times_;
   double start_; ///< total time at the stage's start
+  double scale_; ///< time per unit of load factor: the duration of a consolidation stage, else 1
+  std::vector<Eigen::Index> other_rows_; ///< free equations of the fields besides the displacements
+  std::vector<char> is_other_;           ///< per free equation: one of other_rows_
+  double weight_ = 1.0;                  ///< their factor (weigh_other_fields)
   Eigen::VectorXd ref_, full_, fint_;
 };
 

@@ -58,6 +58,18 @@ scene::StageSpec read_stage(const toml::table& t, const std::string& ctx, const 
   st.name = p.text("name");
   scene::require_file_name(st.name, p.where("name"), ctx, "name");
   st.where = location(t);
+  st.consolidation = p.text("type") == "consolidation";
+  if (st.consolidation) {
+    if (!t.get("duration"))
+      throw Error(p.where("type"),
+                  ctx + " a consolidation stage needs its duration (s), e.g. duration = 86400.0");
+    st.duration = p.real("duration");
+    st.until_excess_pressure = p.real("until_excess_pressure");
+  } else {
+    for (const char* key : {"duration", "until_excess_pressure"})
+      if (t.get(key))
+        throw Error(p.where(key), ctx + " " + key + " acts only in a stage with type = \"consolidation\"");
+  }
   st.steps = static_cast<int>(p.integer("steps"));
   st.increments = p.real_list("increments");
   if (!st.increments.empty()) {

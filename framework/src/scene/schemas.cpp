@@ -271,6 +271,17 @@ TableKeys stage_keys(long long max_cutbacks, double error_tolerance, bool vtk, l
   TableKeys k;
   Schema& s = k.schema;
   s.text("name", {}, "stage name (checkpoints and output are named after it)");
+  s.text("type", {"static", "consolidation"},
+         "static: the stage takes no physical time and nothing flows (porous domains load undrained); "
+         "consolidation: the stage lasts `duration` and the pore water flows (its load factor is the "
+         "fraction of the duration elapsed, loads grow linearly in time)")
+      .defaults_to(std::string("static"));
+  s.real("duration", "s", "physical time of a consolidation stage (s)").greater_than(0).defaults_to(1.0);
+  s.real("until_excess_pressure", "kPa",
+         "consolidation: end the stage (normally, the next stage follows) once the largest excess pore "
+         "pressure |p| at any node is below this value; 0: run the whole duration")
+      .at_least(0)
+      .defaults_to(0.0);
   s.integer("steps", "-", "equal load increments of the stage").at_least(1).defaults_to(1LL);
   s.real_list("increments", "-", "load-factor increments summing to 1 (instead of steps)")
       .defaults_to(std::vector<double>{});

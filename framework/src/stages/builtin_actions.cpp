@@ -163,6 +163,49 @@ private:
   Params p_;
 };
 
+/// drain and seal: the hydraulic boundary of a node set. `drain` prescribes the excess pore
+/// pressure p (0: drained to the steady water pressure) from the stage's first step on: the value
+/// jumps there, as a drainage opened at the stage's start does, and the first step's storage term
+/// sees the jump. `seal` frees p again: no flow through the nodes (the default of a boundary).
+class Hydraulic final : public StageAction {
+public:
+  static Schema drain_schema() {
+    Schema g;
+    g.text("nodes", {}, "node or edge set of the drained boundary (only the nodes that carry p take part)");
+    g.real("p", "kPa", "excess pore pressure held at these nodes from the stage's first step on")
+        .defaults_to(0.0);
+    return g;
+  }
+  static Schema seal_schema() {
+    Schema g;
+    g.text("nodes", {}, "node or edge set whose excess pore pressure is no longer prescribed (no flow)");
+    return g;
+  }
+  Hydraulic(const Params& p, bool drain) : p_(p), drain_(drain) {}
+  void check(StageCheck& scene) override { scene.require_node_set(p_, "nodes"); }
+  void apply(StageState& s) const override {
+    Model& m = s.model;
+    const int f = m.dofs.field("p");
+    int count = 0;
+    if (f >= 0)
+      for (int n : m.mesh.node_sets.at(p_.text("nodes")))
+        if (const int d = m.dofs.dof(n, f); d >= 0) {
+          ++count;
+          m.constrained[static_cast<std::size_t>(d)] = drain_ ? 1 : 0;
+          if (drain_) m.prescribed_base[d] = p_.real("p"), m.prescribed[d] = 0.0;
+        }
+    if (count == 0)
+      throw Error(p_.where("nodes"), std::string(drain_ ? "drain" : "seal") + ": no node of set \"" +
+                                         p_.text("nodes") +
+                                         "\" carries a pore pressure p; the set must touch cells of a porous "
+                                         "element (quad8p4, tri6p3)");
+  }
+
+private:
+  Params p_;
+  bool drain_;
+};
+
 /// reset_displacements: the displacements start again from zero (the stresses stay).
 class ResetDisplacements final : public StageAction {
 public:
@@ -369,13 +412,24 @@ void register_builtin_actions(Registry& r) {
   r.add(factory<Remove>("remove", "an applied load stops acting", Remove::schema()));
   r.add(factory<Displacement>("displacement", "a node set's displacement grows over the stage",
                               Displacement::schema()));
+  r.add({"drain",
+         "a node set's excess pore pressure is held (a drained boundary opens)",
+         Hydraulic::drain_schema(),
+         [](const Params& p) -> std::unique_ptr<StageAction> { return std::make_unique<Hydraulic>(p, true); },
+         {}});
+  r.add(
+      {"seal",
+       "a node set's excess pore pressure is free again (no flow: a boundary closes)",
+       Hydraulic::seal_schema(),
+       [](const Params& p) -> std::unique_ptr<StageAction> { return std::make_unique<Hydraulic>(p, false); },
+       {}});
   r.add(factory<ResetDisplacements>("reset_displacements", "displacements start again from zero", Schema{}));
 }
 
 const std::vector<std::string>& builtin_action_types() {
   static const std::vector<std::string> types{
-      "geostatic", "deactivate", "activate", "pressure",     "load",
-      "force",     "gravity",    "remove",   "displacement", "reset_displacements"};
+      "geostatic",    "deactivate",          "activate", "pressure", "load", "force", "gravity", "remove",
+      "displacement", "reset_displacements", "drain",    "seal"};
   return types;
 }
 

@@ -19,6 +19,11 @@ using stratum::LoadSpec;
 struct Stage {
   std::string name;
   SourceLocation where;
+  /// A consolidation stage lasts `duration` seconds of physical time (StepClock::transient), its
+  /// load factor being the fraction elapsed; a static one takes none (undrained).
+  bool consolidation = false;
+  double duration = 0.0;              ///< s; 0 in a static stage
+  double until_excess_pressure = 0.0; ///< consolidation: end once max |p| < this (kPa); 0: never
   int steps = 1;
   std::vector<double> increments; ///< load-factor increments (sum 1); empty: `steps` equal ones
   int max_cutbacks = 4;

@@ -1,0 +1,351 @@
+// Groundwater (docs/groundwater.md) against closed forms, whole scenes with the u-p elements of
+// plugins/biot:
+//  * a sealed oedometer loaded undrained: the excess pore pressure p = q (K_w/n) / (M + K_w/n)
+//    at every node and the settlement H (q - p) / M, plane strain and axisymmetric (1e-8);
+//  * Terzaghi's one-dimensional consolidation: a column of height H drained at its top (the drain
+//    opens when the consolidation stage starts), impermeable and fixed at its base, under a load
+//    q applied undrained. The excess pore pressure follows the series
+//      p(z, t) = p0 sum_m (2 / M_m) sin(M_m z / H) exp(-M_m^2 T),  M_m = pi (2m + 1) / 2,
+//    z the depth below the drained top, T = c_v t / H^2, c_v = k / (gamma_w (1/M + n/K_w)) (the
+//    fluid's compressibility included), and the degree of consolidation (from the settlement)
+//      U(T) = 1 - sum_m (2 / M_m^2) exp(-M_m^2 T).
+//    Asserted at T = 0.05, 0.1, 0.2, 0.5, 1: the isochrones within 1 % of p0 at every pressure
+//    node, U(T) within 1 % of the series value.
+//  * Mandel's problem (plane strain): a quarter of a 2a x 2b specimen (a = 1, b = 1) squeezed by
+//    the pressure s0 through a rigid, smooth plate (an isotropic plate of E = 1e9 kPa on a
+//    zero-strength interface of shear stiffness 1e-3 kPa/m, so that it neither bends nor holds
+//    the specimen's top back), drained at its sides x = +-a from the consolidation's start.
+//    The undrained response is p0 = B (1 + nu_u) s0 / 3 with Skempton's B = (K_w/n) / (K + K_w/n)
+//    and nu_u = (3 K_u - 2 G) / (2 (3 K_u + G)), K_u = K + K_w/n; then the centre's pressure
+//    first rises (Mandel-Cryer) and follows Cheng and Detournay's (1988) series
+//      p(x, t) = (2 s0 B (1 + nu_u) / 3) sum_i sin a_i / (a_i - sin a_i cos a_i) (cos(a_i x / a)
+//                - cos a_i) exp(-a_i^2 c t / a^2),  tan a_i = (1 - nu) / (nu_u - nu) a_i,
+//      c = 2 (k / gamma_w) G (1 - nu)(nu_u - nu) / ((1 - 2 nu)^2 (1 - nu_u)).
+//    Asserted at T = c t / a^2 = 0.01 ... 1: within 2 % of p0 (the issue's bound; measured
+//    0.2 % at T = 1 with 60 implicit Euler steps between the marks, 0.6 % with 20), and the rise above p0.
+#include "scene_helpers.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace test_groundwater {
+
+using namespace stratum;
+
+namespace {
+
+constexpr double E = 10000.0, nu = 0.3, q = 100.0, H = 10.0;
+constexpr double k_perm = 1e-8, n_por = 0.4, K_w = 2.2e6, gamma_w = 10.0;
+
+/// The constrained (oedometric) modulus M = E (1 - nu) / ((1 + nu)(1 - 2 nu)).
+double oedometric() { return E * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
+double fluid() { return K_w / n_por; }
+double p0() { return q * fluid() / (oedometric() + fluid()); }
+double cv() { return k_perm / (gamma_w * (1.0 / oedometric() + n_por / K_w)); }
+
+double terzaghi_p(double depth, double T) {
+  double s = 0.0;
+  for (int m = 0; m < 400; ++m) {
+    const double Mm = std::numbers::pi * (2.0 * m + 1.0) / 2.0;
+    s += 2.0 / Mm * std::sin(Mm * depth / H) * std::exp(-Mm * Mm * T);
+  }
+  return p0() * s;
+}
+
+double terzaghi_U(double T) {
+  double s = 0.0;
+  for (int m = 0; m < 400; ++m) {
+    const double Mm = std::numbers::pi * (2.0 * m + 1.0) / 2.0;
+    s += 2.0 / (Mm * Mm) * std::exp(-Mm * Mm * T);
+  }
+  return 1.0 - s;
+}
+
+/// A column of 1 x ny 8-node u-p cells (width 1, height H), held laterally and at its base,
+/// loaded by q on its top in a static stage (undrained); `more` follows (further stages).
+std::string column(const std::string& formulation, int ny, const std::string& more) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "[analysis]\nformulation = \"" << formulation << "\"\nsolver = \"newton\"\n"
+    << "[mesh]\ngenerator = \"blocks\"\nnodes_per_cell = 8\n"
+    << "[[mesh.blocks]]\nname = \"soil\"\nx = [" << (formulation == "axisymmetric" ? "0.5, 1.5" : "0.0, 1.0")
+    << "]\ny = [0.0, " << H << "]\nnx = 1\nny = " << ny << "\n"
+    << "[materials.soil]\nmodel = \"linear_elastic\"\nE = " << E << "\nnu = " << nu << "\n"
+    << "[[domains]]\ncells = \"soil\"\nelement = \"quad8p4\"\nformulation = \"" << formulation
+    << "\"\nmaterial = \"soil\"\npermeability = " << k_perm << "\nporosity = " << n_por
+    << "\nfluid_bulk_modulus = " << K_w << "\nunit_weight_water = " << gamma_w << "\n"
+    << "[[constraints]]\nnodes = \"left\"\nux = 0.0\n[[constraints]]\nnodes = \"right\"\nux = 0.0\n"
+    << "[[constraints]]\nnodes = \"bottom\"\nuy = 0.0\n"
+    << "[[stages]]\nname = \"load\"\n[[stages.actions]]\ntype = \"pressure\"\nedges = \"soil.top\"\np = " << q
+    << "\n"
+    << more;
+  return s.str();
+}
+
+std::unique_ptr<Analysis> build(const std::string& toml, RunOptions o = {}) {
+  o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+  o.write_output = false;
+  return Analysis::from_string(toml, "groundwater.toml", std::move(o));
+}
+
+/// Mean vertical displacement of the top nodes.
+double top_settlement(const Model& m) {
+  double s = 0.0;
+  int count = 0;
+  for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
+    if (std::abs(m.mesh.nodes[n].y() - H) < 1e-9)
+      s -= m.u[m.dofs.dof(static_cast<int>(n), field_uy)], ++count;
+  return s / count;
+}
+
+} // namespace
+
+TEST_CASE("groundwater: a sealed oedometer loaded undrained carries p = q (K_w/n) / (M + K_w/n)",
+          "[groundwater]") {
+  for (const std::string formulation : {"plane_strain", "axisymmetric"}) {
+    INFO(formulation);
+    auto a = build(column(formulation, 4, ""));
+    const RunSummary s = a->run();
+    REQUIRE(s.outcome.ok());
+    const Model& m = a->model();
+    const int f = m.dofs.field("p");
+    REQUIRE(f >= 0);
+    int nodes = 0;
+    for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
+      if (const int d = m.dofs.dof(static_cast<int>(n), f); d >= 0) {
+        CHECK(m.u[d] == Approx(p0()).epsilon(1e-8));
+        ++nodes;
+      }
+    CHECK(nodes == 10); // the corners of 4 cells stacked
+    CHECK(top_settlement(m) == Approx(H * (q - p0()) / oedometric()).epsilon(1e-8));
+  }
+}
+
+TEST_CASE("groundwater: Terzaghi's consolidation follows the series solution within 1 %", "[groundwater]") {
+  // Time steps: 60 equal ones between the listed T (implicit Euler is first order in time: with
+  // 20 the error at T = 0.5 was 0.5 %), 40 geometric ones from T = 1e-5 to 0.01 before them.
+  const std::vector<double> marks{0.05, 0.1, 0.2, 0.5, 1.0};
+  const double duration = marks.back() * H * H / cv();
+  std::vector<double> T_end; // the end of each step, as a time factor
+  for (int i = 0; i <= 40; ++i) T_end.push_back(1e-5 * std::pow(0.01 / 1e-5, i / 40.0));
+  double from = T_end.back();
+  for (double mark : marks) {
+    const int n = 60;
+    for (int i = 1; i <= n; ++i) T_end.push_back(from + (mark - from) * i / n);
+    from = mark;
+  }
+  std::ostringstream inc;
+  inc.precision(17);
+  double prev = 0.0;
+  for (std::size_t i = 0; i < T_end.size(); ++i) {
+    const double last = i + 1 == T_end.size() ? 1.0 : T_end[i] / marks.back();
+    inc << (i ? ", " : "") << last - prev;
+    prev = last;
+  }
+  // The increments must sum to 1 within the reader's 1e-9: rounding the last one does that.
+  std::ostringstream more;
+  more.precision(17);
+  more << "[[stages]]\nname = \"consolidate\"\ntype = \"consolidation\"\nduration = " << duration
+       << "\nincrements = [" << inc.str()
+       << "]\n[[stages.actions]]\ntype = \"drain\"\nnodes = \"soil.top\"\n";
+
+  std::map<double, std::vector<std::array<double, 2>>> isochrones; // T -> (depth, p)
+  std::map<double, double> settlement;
+  double undrained = 0.0;
+  Analysis* analysis = nullptr;
+  RunOptions o;
+  o.on_step = [&](int, int, double lambda, const StepReport&) {
+    const Model& m = analysis->model();
+    if (m.clock.stage == 1) {
+      undrained = top_settlement(m);
+      return;
+    }
+    const double T = lambda * marks.back();
+    for (double mark : marks) {
+      if (std::abs(T - mark) > 1e-9 * mark) continue;
+      settlement[mark] = top_settlement(m);
+      const int f = m.dofs.field("p");
+      for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
+        if (const int d = m.dofs.dof(static_cast<int>(n), f); d >= 0)
+          isochrones[mark].push_back({H - m.mesh.nodes[n].y(), m.u[d]});
+    }
+  };
+  auto a = build(column("plane_strain", 40, more.str()), std::move(o));
+  analysis = a.get();
+  const RunSummary s = a->run();
+  REQUIRE(s.outcome.ok());
+  REQUIRE(isochrones.size() == marks.size());
+  CHECK(undrained == Approx(H * (q - p0()) / oedometric()).epsilon(1e-8));
+  const double final_settlement = H * q / oedometric();
+  for (double T : marks) {
+    INFO("T = " << T);
+    double worst = 0.0;
+    for (const auto& [depth, p] : isochrones[T]) worst = std::max(worst, std::abs(p - terzaghi_p(depth, T)));
+    INFO("largest |p - series| / p0 = " << worst / p0());
+    CHECK(worst <= 0.01 * p0());
+    const double U = (settlement[T] - undrained) / (final_settlement - undrained);
+    INFO("U = " << U << ", series " << terzaghi_U(T));
+    CHECK(U == Approx(terzaghi_U(T)).epsilon(0.01));
+  }
+}
+
+namespace {
+
+/// Mandel's quarter specimen (see the top of the file), the consolidation stage's increments
+/// given.
+std::string mandel_scene(double duration, const std::string& increments) {
+  std::ostringstream s;
+  s.precision(17);
+  s << R"([analysis]
+formulation = "plane_strain"
+solver = "newton"
+[mesh]
+generator = "blocks"
+nodes_per_cell = 8
+[[mesh.blocks]]
+name = "soil"
+x = [0.0, 1.0]
+y = [0.0, 1.0]
+nx = 20
+ny = 4
+[[mesh.blocks]]
+name = "plate"
+x = [0.0, 1.0]
+y = [1.0, 1.1]
+nx = 20
+ny = 1
+[materials.soil]
+model = "linear_elastic"
+E = 10000.0
+nu = 0.2
+[materials.plate]
+model = "linear_elastic"
+E = 1.0e9
+nu = 0.0
+[contact_laws.smooth]
+model = "coulomb_elastoplastic"
+k_s = 1.0e-3
+k_n = 1.0e10
+c = 1.0e6
+[[interfaces]]
+name = "smooth"
+edges = "soil.top"
+cells = "plate"
+element = "interface_line"
+law = "smooth"
+[[domains]]
+cells = "soil"
+element = "quad8p4"
+formulation = "plane_strain"
+material = "soil"
+permeability = 1e-6
+porosity = 0.3
+fluid_bulk_modulus = 2.2e6
+unit_weight_water = 10.0
+[[domains]]
+cells = "plate"
+element = "quad"
+formulation = "plane_strain"
+material = "plate"
+[[constraints]]
+nodes = "left"
+ux = 0.0
+[[constraints]]
+nodes = "bottom"
+uy = 0.0
+[[stages]]
+name = "load"
+[[stages.actions]]
+type = "pressure"
+edges = "plate.top"
+p = 100.0
+[[stages]]
+name = "consolidate"
+type = "consolidation"
+)";
+  s << "duration = " << duration << "\nincrements = [" << increments << "]\n";
+  s << "[[stages.actions]]\ntype = \"drain\"\nnodes = \"soil.right\"\n";
+  return s.str();
+}
+
+/// Increments (as a TOML list) whose step ends fall on every mark (fractions of the last mark):
+/// `geometric` steps from marks[0] * 1e-3 to marks[0], then `per_mark` equal ones between marks.
+std::string increments_through(const std::vector<double>& marks, int geometric, int per_mark) {
+  std::vector<double> ends;
+  for (int i = 0; i <= geometric; ++i) ends.push_back(1e-3 * marks[0] * std::pow(1e3, double(i) / geometric));
+  for (std::size_t k = 1; k < marks.size(); ++k)
+    for (int i = 1; i <= per_mark; ++i)
+      ends.push_back(marks[k - 1] + (marks[k] - marks[k - 1]) * i / per_mark);
+  std::ostringstream inc;
+  inc.precision(17);
+  double prev = 0.0;
+  for (std::size_t i = 0; i < ends.size(); ++i) {
+    const double end = i + 1 == ends.size() ? 1.0 : ends[i] / marks.back();
+    inc << (i ? ", " : "") << end - prev;
+    prev = end;
+  }
+  return inc.str();
+}
+
+} // namespace
+
+TEST_CASE("groundwater: Mandel's problem, the centre's pressure rises and follows the series within 2 %",
+          "[groundwater]") {
+  constexpr double Em = 1e4, num = 0.2, nm = 0.3, Kwm = 2.2e6, km = 1e-6, gwm = 10.0, a = 1.0, s0 = 100.0;
+  const double K = Em / (3.0 * (1.0 - 2.0 * num)), G = Em / (2.0 * (1.0 + num)), Kf = Kwm / nm;
+  const double B = Kf / (Kf + K), Ku = K + Kf;
+  const double nuu = (3.0 * Ku - 2.0 * G) / (2.0 * (3.0 * Ku + G));
+  const double c = 2.0 * (km / gwm) * G * (1.0 - num) * (nuu - num) /
+                   ((1.0 - 2.0 * num) * (1.0 - 2.0 * num) * (1.0 - nuu));
+  const double p0 = B * (1.0 + nuu) * s0 / 3.0;
+  // The roots of tan a = C a: one in (0, pi/2), then one in (i pi, i pi + pi/2).
+  const double C = (1.0 - num) / (nuu - num);
+  std::vector<double> roots;
+  for (int i = 0; i < 300; ++i) {
+    double lo = i * std::numbers::pi + 1e-12, hi = i * std::numbers::pi + std::numbers::pi / 2 - 1e-12;
+    for (int it = 0; it < 200; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (std::tan(mid) - C * mid > 0.0 ? hi : lo) = mid;
+    }
+    roots.push_back(0.5 * (lo + hi));
+  }
+  auto series = [&](double x, double T) {
+    double sum = 0.0;
+    for (double r : roots)
+      sum += std::sin(r) / (r - std::sin(r) * std::cos(r)) * (std::cos(r * x / a) - std::cos(r)) *
+             std::exp(-r * r * T);
+    return 2.0 * s0 * B * (1.0 + nuu) / 3.0 * sum;
+  };
+  const std::vector<double> marks{0.01, 0.05, 0.1, 0.2, 0.5, 1.0};
+  const double duration = marks.back() * a * a / c;
+  std::map<double, double> centre;
+  double undrained = 0.0;
+  Analysis* analysis = nullptr;
+  RunOptions o;
+  o.on_step = [&](int, int, double lambda, const StepReport&) {
+    const Model& m = analysis->model();
+    const double p = m.u[m.dofs.dof(testing::node_at(m, 0.0, 0.0), m.dofs.field("p"))];
+    if (m.clock.stage == 1) undrained = p;
+    for (double mark : marks)
+      if (m.clock.stage == 2 && std::abs(lambda * marks.back() - mark) <= 1e-9 * mark) centre[mark] = p;
+  };
+  auto an = build(mandel_scene(duration, increments_through(marks, 20, 60)), std::move(o));
+  analysis = an.get();
+  const RunSummary s = an->run();
+  REQUIRE(s.outcome.ok());
+  REQUIRE(centre.size() == marks.size());
+  CHECK(undrained == Approx(p0).epsilon(1e-6));
+  CHECK(centre[0.05] > 1.05 * p0); // Mandel-Cryer: the centre's pressure first rises
+  for (double T : marks) {
+    INFO("T = " << T << ": p = " << centre[T] << ", series " << series(0.0, T) << ", p0 " << p0);
+    CHECK(std::abs(centre[T] - series(0.0, T)) <= 0.02 * p0);
+  }
+}
+
+} // namespace test_groundwater
