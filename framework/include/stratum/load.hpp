@@ -26,10 +26,15 @@ struct LoadSpec {
   double total_force = std::numeric_limits<double>::quiet_NaN();
   double fx = 0.0, fy = 0.0; ///< force per node (kN)
   bool top_of_cells = false; ///< pressure on the top faces of the cell set `set` (a pile head)
+  /// gravity: cells whose centroid lies below this level y weigh gamma_below (the buoyant unit
+  /// weight under a phreatic level) instead of gamma; -inf: none.
+  double water_level = -std::numeric_limits<double>::infinity();
+  double gamma_below = 0.0;
 
   /// Checkpoints keep the applied loads (framework/src/run/checkpoint.hpp).
   template <class Ar> void serialize(Ar& ar, unsigned /*version*/) {
-    ar& name& kind& set& p& gamma& surface& critical_depth& total_force& fx& fy& top_of_cells;
+    ar& name& kind& set& p& gamma& surface& critical_depth& total_force& fx& fy& top_of_cells& water_level&
+        gamma_below;
   }
 };
 

@@ -12,6 +12,7 @@
 #include <bit>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -62,8 +63,19 @@ struct Domain {
   StateStore states;
 };
 
+/// The steady pore water of the model: hydrostatic below a horizontal phreatic level (set by a
+/// `geostatic` action with a `water_level`). The unknown `p` of porous elements is the excess over it.
+struct Water {
+  double level = -std::numeric_limits<double>::infinity(); ///< phreatic level y, m; -inf: dry
+  double gamma_w = 9.81;                                   ///< unit weight of water, kN/m3
+  [[nodiscard]] bool present() const { return level > -std::numeric_limits<double>::infinity(); }
+  /// The steady pore pressure at level y, compression positive (kPa).
+  [[nodiscard]] double pressure(double y) const { return y < level ? gamma_w * (level - y) : 0.0; }
+};
+
 struct Model {
   Formulation formulation = Formulation::axisymmetric;
+  Water water;
   Mesh mesh;
   std::vector<Domain> domains;
   DofMap dofs;

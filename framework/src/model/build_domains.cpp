@@ -1,6 +1,7 @@
 // [[domains]] and [[constraints]] built against the mesh: the plugin objects of each domain, its
 // integration points with their first state, and the DOF map with the constrained unknowns.
 #include "model/scene_model.hpp"
+#include "model/undrained_material.hpp"
 
 #include "model/domain_points.hpp"
 #include "suggest.hpp"
@@ -87,6 +88,19 @@ void SceneModel::build_domains(const scene::Scene& sc) {
       dm.law.material = materials[d.material_index].get();
     }
     dm.cells = cs->second;
+    if (d.drainage != "drained" && !dm.cells.empty()) {
+      const Cell& first = model.mesh.cells[static_cast<std::size_t>(dm.cells.front())];
+      for (const Field& f : elements.back()->node_fields(first.type, first.shape()).fields)
+        if (f.unit != "m")
+          throw Error(d.drainage_at, ctx + " drainage = \"" + d.drainage + "\": element = \"" + d.element +
+                                         "\" carries the pore pressure " + f.name +
+                                         " itself (a static stage loads it undrained, a consolidation stage "
+                                         "lets it drain); remove drainage, or use a displacement element");
+    }
+    if (d.drainage == "undrained") {
+      materials.push_back(std::make_unique<UndrainedMaterial>(*dm.law.material, d.fluid_stiffness));
+      dm.law.material = materials.back().get();
+    }
     for (const int cell : dm.cells) {
       if (owner[cell] >= 0)
         throw Error(d.cells_at, ctx + " cell " + std::to_string(cell) + " already belongs to [[domains]] #" +

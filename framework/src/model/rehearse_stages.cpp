@@ -186,6 +186,27 @@ std::string coincident_nodes(const Model& m, const Units& units) {
   return o.str();
 }
 
+/// A consolidation stage needs a pore pressure to flow (an error without one) and, to drain, a
+/// node where it is held (a warning without: the water only redistributes inside the model).
+void check_consolidation(const Model& m, const stage::Stage& st, const std::string& ctx,
+                         std::vector<std::string>& warnings) {
+  const int f = m.dofs.field("p");
+  if (f < 0)
+    throw Error(st.where, ctx +
+                              ": type = \"consolidation\", but no domain carries a pore pressure p; give "
+                              "the saturated soil a porous element (element = \"quad8p4\" or \"tri6p3\"), or "
+                              "make the stage static");
+  for (std::size_t n = 0; n + 1 < m.dofs.node_first.size(); ++n)
+    if (const int d = m.dofs.dof(static_cast<int>(n), f);
+        d >= 0 && m.constrained[static_cast<std::size_t>(d)])
+      return;
+  warnings.push_back(
+      st.where.str() + " " + ctx +
+      ": a consolidation stage with no drained boundary (no node holds p): the water cannot "
+      "leave, the excess pore pressure only evens out; open one with a [[stages.actions]] type "
+      "= \"drain\" or a [[constraints]] field = \"p\"");
+}
+
 } // namespace
 
 void SceneModel::rehearse_stages() {
@@ -228,6 +249,7 @@ void SceneModel::rehearse_stages() {
     if (const std::string why = unheld_part(m, carried, units); !why.empty())
       throw Error(st.where, ctx + ": " + why);
     m.rebuild_dofs();
+    if (st.consolidation) check_consolidation(m, st, ctx, warnings);
     solver->check(SolverCheck{m, ctx});
   }
 }

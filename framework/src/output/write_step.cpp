@@ -38,6 +38,12 @@ void add_node_fields(const Model& m, OutputStep& out) {
       if (const int d = m.dofs.dof(static_cast<int>(n), static_cast<int>(f)); d >= 0) a.values[n] = m.u[d];
     out.point_fields.push_back(std::move(a));
   }
+  // The steady (hydrostatic) pore pressure below a phreatic level, at every node.
+  if (m.water.present()) {
+    OutputArray a{"p_steady", 1, std::vector<double>(m.mesh.nodes.size(), 0.0)};
+    for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n) a.values[n] = m.water.pressure(m.mesh.nodes[n].y());
+    out.point_fields.push_back(std::move(a));
+  }
 }
 
 /// The arrays of the materials' named history components (empty) and, per domain, the history

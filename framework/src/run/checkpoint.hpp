@@ -14,7 +14,7 @@
 namespace stratum {
 
 struct Checkpoint {
-  static constexpr int format = 2;
+  static constexpr int format = 3;
   std::string fingerprint; ///< mesh, domains and stage list of the scene that wrote it
   /// The resolved scene's parts that shaped the saved state (scene_fingerprint.hpp): name,
   /// digest and stage (-1 global) of each.
@@ -27,10 +27,11 @@ struct Checkpoint {
   std::vector<stage::LoadSpec> loads;
   std::vector<std::vector<double>> states; ///< committed state store of every domain
   double time = 0.0;                       ///< output time reached
+  double water_level = 0.0, gamma_w = 0.0; ///< Model::water (level -inf: dry)
 
   template <class Ar> void serialize(Ar& ar, unsigned /*version*/) {
     ar& fingerprint& part_names& part_digests& part_stages& stages_done& stage_name& u& reactions& active&
-        constrained& loads& states& time;
+        constrained& loads& states& time& water_level& gamma_w;
   }
 };
 

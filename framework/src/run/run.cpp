@@ -53,6 +53,7 @@ RunSummary Analysis::run() {
     s.loads = c.loads;
     for (std::size_t d = 0; d < m.domains.size(); ++d) m.domains[d].states.restore(c.states[d]);
     s.state.time = c.time;
+    m.water = Water{c.water_level, c.gamma_w};
     first = static_cast<std::size_t>(c.stages_done);
     summary.stages_done = c.stages_done;
   }
@@ -107,6 +108,7 @@ RunSummary Analysis::run() {
         c.loads = s.loads;
         for (const auto& dm : m.domains) c.states.push_back(dm.states.committed_data());
         c.time = s.state.time;
+        c.water_level = m.water.level, c.gamma_w = m.water.gamma_w;
         const auto path = (fs::path(summary.out_dir) / "checkpoints" /
                            (std::to_string(k + 1) + "_" + sm.stages[k].name + ".ckpt"))
                               .string();

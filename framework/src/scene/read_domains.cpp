@@ -7,6 +7,8 @@
 #include "scene/toml_check.hpp"
 #include "suggest.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace stratum {
@@ -16,6 +18,36 @@ using io::location;
 using io::require_string;
 using scene::optional_table;
 using scene::table_list;
+
+namespace {
+
+/// A domain's drainage and, for an undrained one, its fluid stiffness.
+void read_drainage(const toml::table& t, const std::string& ctx, scene::DomainSpec& d) {
+  const Schema keys = scene::domain_schema();
+  if (const toml::node* n = t.get("drainage")) {
+    d.drainage = require_string(t, "drainage", ctx);
+    d.drainage_at = location(*n);
+    const ParamSpec& spec = *keys.find("drainage");
+    if (std::find(spec.choices.begin(), spec.choices.end(), d.drainage) == spec.choices.end())
+      throw Error(d.drainage_at, ctx + " drainage = \"" + d.drainage + "\" is not allowed; allowed: " +
+                                     spec.allowed() + did_you_mean(d.drainage, spec.choices));
+  }
+  const toml::node* k = t.get("fluid_stiffness");
+  if (d.drainage == "undrained" && !k)
+    throw Error(d.drainage_at, ctx + " drainage = \"undrained\" needs fluid_stiffness = K_w / n (kPa), "
+                                     "e.g. 5.5e6 for water at n = 0.4");
+  if (k && d.drainage != "undrained")
+    throw Error(location(*k), ctx + " fluid_stiffness acts only with drainage = \"undrained\" (here: \"" +
+                                  d.drainage + "\")");
+  if (k) {
+    const auto v = k->value<double>();
+    if (!v || !(*v > 0.0) || !std::isfinite(*v))
+      throw Error(location(*k), ctx + " fluid_stiffness must be a number in (0, inf)");
+    d.fluid_stiffness = *v;
+  }
+}
+
+} // namespace
 
 void scene::read_domains(const toml::table& root, PluginCatalog& catalog, Registry& registry, Scene& sc) {
   // ---- materials
@@ -61,6 +93,7 @@ void scene::read_domains(const toml::table& root, PluginCatalog& catalog, Regist
                                        key_list(material_by_name, d.material));
       d.material_index = mat->second;
     }
+    read_drainage(t, ctx, d);
     d.plugin = scene::plugin_table<Element>(catalog, registry, d.element, d.element_at,
                                             ctx + " element = \"" + d.element + "\"", t, ctx,
                                             scene::key_names(domain_keys), sc.units);

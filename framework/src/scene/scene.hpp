@@ -81,6 +81,9 @@ struct DomainSpec {
   SourceLocation cells_at, material_at, element_at;
   std::size_t material_index = 0; ///< into Scene::materials
   PluginTable<Element> plugin;
+  std::string drainage = "drained"; ///< drained, undrained, undrained_total, non_porous
+  double fluid_stiffness = 0.0;     ///< K_w / n of an undrained domain (kPa)
+  SourceLocation drainage_at;
 };
 
 struct ContactLawSpec {

@@ -233,6 +233,17 @@ Schema domain_schema() {
          "name of a [materials.<name>] table (required unless the element takes none, e.g. an element of a "
          "scalar field with its own conductivity)")
       .defaults_to(std::string());
+  s.text("drainage", {"drained", "undrained", "undrained_total", "non_porous"},
+         "the pore water of a displacement domain (docs/groundwater.md): drained (none acts), undrained "
+         "(effective-stress parameters, the pore fluid's stiffness `fluid_stiffness` added, an excess pore "
+         "pressure per point), undrained_total (total-stress parameters, e.g. c = s_u: no pore pressure is "
+         "computed) or non_porous (concrete, steel); a porous element (quad8p4, tri6p3) models its water "
+         "itself and takes drained only")
+      .defaults_to(std::string("drained"));
+  s.real("fluid_stiffness", "kPa",
+         "drainage = undrained: K_w / n, the pore fluid's bulk modulus over the porosity (water: 2.2e6 / n)")
+      .greater_than(0)
+      .defaults_to_computed(0.0, "required with drainage = \"undrained\"");
   return s;
 }
 

@@ -32,15 +32,42 @@ public:
     Schema g;
     g.text("cells", {}, "cells that receive the initial stress and their self-weight")
         .defaults_to(std::string("all"));
-    g.real("gamma", "kN/m3", "unit weight").greater_than(0);
-    g.real("K0", "-", "earth pressure coefficient at rest, sigma_h = K0 sigma_v").greater_than(0);
+    g.real("gamma", "kN/m3", "unit weight (above the water table when `water_level` is given)").at_least(0);
+    g.real("K0", "-", "earth pressure coefficient at rest, on effective stresses: sigma'_h = K0 sigma'_v")
+        .greater_than(0);
     g.real("surface", "m", "ground level y").defaults_to(0.0);
+    g.real("surcharge", "kPa", "vertical stress acting on the surface (compression positive)")
+        .at_least(0)
+        .defaults_to(0.0);
+    g.real("water_level", "m",
+           "phreatic level y: below it the pore water is hydrostatic, p = gamma_w (water_level - y), the "
+           "stress set is effective and the self-weight buoyant; absent: dry")
+        .defaults_to_computed(0.0, "none (dry)");
+    g.real("gamma_sat", "kN/m3", "unit weight below the water table")
+        .at_least(0)
+        .defaults_to_computed(0.0, "gamma");
+    g.real("gamma_w", "kN/m3", "unit weight of the pore water").greater_than(0).defaults_to(9.81);
     g.text("name", {}, "name of the self-weight load it adds").defaults_to(std::string("self_weight"));
     return g;
   }
   explicit Geostatic(const Params& p) : p_(p) {
+    state_.gamma = p.real("gamma");
+    state_.gamma_sat = p.where("gamma_sat").known() ? p.real("gamma_sat") : state_.gamma;
+    state_.K0 = p.real("K0");
+    state_.surface = p.real("surface");
+    state_.surcharge = p.real("surcharge");
+    if (p.where("water_level").known()) state_.water_level = p.real("water_level");
+    state_.gamma_w = p.real("gamma_w");
     load_.kind = LoadSpec::Kind::gravity;
-    load_.name = p.text("name"), load_.set = p.text("cells"), load_.gamma = p.real("gamma");
+    load_.name = p.text("name"), load_.set = p.text("cells"), load_.gamma = state_.gamma;
+    // Below the water table the skeleton weighs its buoyant unit weight: the steady pore pressure
+    // (hydrostatic, not an unknown) carries the rest.
+    load_.water_level = state_.water_level;
+    load_.gamma_below = state_.gamma_sat - state_.gamma_w;
+    if (p.where("water_level").known() && load_.gamma_below < 0.0)
+      throw Error(p.where(p.where("gamma_sat").known() ? "gamma_sat" : "water_level"),
+                  "geostatic: gamma_sat = " + std::to_string(state_.gamma_sat) + " is below gamma_w = " +
+                      std::to_string(state_.gamma_w) + "; a saturated soil weighs more than water");
   }
   void check(StageCheck& scene) override {
     scene.require_cell_set(p_, "cells");
@@ -49,13 +76,14 @@ public:
     scene.reset_after = true;
   }
   void apply(StageState& s) const override {
-    set_geostatic(s.model, s.model.mesh.cell_sets.at(load_.set), p_.real("gamma"), p_.real("K0"),
-                  p_.real("surface"));
+    set_geostatic(s.model, s.model.mesh.cell_sets.at(load_.set), state_);
+    if (p_.where("water_level").known()) s.model.water = Water{state_.water_level, state_.gamma_w};
     s.loads.push_back(load_);
   }
 
 private:
   Params p_;
+  AtRest state_;
   LoadSpec load_;
 };
 

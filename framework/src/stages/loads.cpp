@@ -96,6 +96,7 @@ void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f) {
       for (int c : dm.cells) {
         if (!model.is_active(c) || !in_set.count(c)) continue;
         model.cell_nodes(c, nodes, x);
+        b[field_uy] = x.col(1).mean() < spec.water_level ? -spec.gamma_below : -spec.gamma;
         dm.element->body_force(model.element_data(c, x), b, fe);
         model.cell_dofs(dm, c, dofs);
         for (std::size_t i = 0; i < dofs.size(); ++i)

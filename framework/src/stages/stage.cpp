@@ -95,12 +95,13 @@ void set_interface_compression(Model& m, const std::vector<int>& cells, Pressure
 
 } // namespace
 
-void set_geostatic(Model& model, const std::vector<int>& cells, double gamma, double K0, double surface) {
+void set_geostatic(Model& model, const std::vector<int>& cells, const AtRest& state) {
+  const double K0 = state.K0;
   std::vector<int> active;
   for (int c : cells)
     if (model.is_active(c)) active.push_back(c);
   for_points(model, active, [&](const Domain& dm, PointSlot<double>& slot, const Eigen::Vector2d& x) {
-    const double sv = -gamma * std::max(surface - x.y(), 0.0);
+    const double sv = state.vertical_effective(x.y());
     Vec6 s = Vec6::Zero();
     s[voigt::xx] = K0 * sv;
     s[voigt::yy] = sv;
@@ -127,7 +128,7 @@ void set_geostatic(Model& model, const std::vector<int>& cells, double gamma, do
     lateral[static_cast<std::size_t>(c)] = K0 * nx2 + ny2;
   }
   set_interface_compression(model, interfaces, [&](int c, const Eigen::Vector2d& x) {
-    return gamma * std::max(surface - x.y(), 0.0) * lateral[static_cast<std::size_t>(c)];
+    return -state.vertical_effective(x.y()) * lateral[static_cast<std::size_t>(c)];
   });
 }
 

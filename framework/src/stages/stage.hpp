@@ -8,6 +8,8 @@
 #include "stratum/model.hpp"
 #include "stratum/stage_action.hpp"
 
+#include <algorithm>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,9 +42,37 @@ struct Stage {
   bool checkpoint = true;
 };
 
-/// Sets the geostatic stress sigma_v = -gamma (surface - y), sigma_h = K0 sigma_v at every
-/// integration point of the active cells in `cells` (history initialised for that stress).
-void set_geostatic(Model& model, const std::vector<int>& cells, double gamma, double K0, double surface);
+/// The at-rest state of a layer: a surcharge on the surface, the unit weight above the water table
+/// and the saturated one below it, hydrostatic pore water below a horizontal phreatic level.
+struct AtRest {
+  double gamma = 0.0;     ///< unit weight above the water table (everywhere without one), kN/m3
+  double gamma_sat = 0.0; ///< unit weight below the water table, kN/m3
+  double K0 = 1.0;
+  double surface = 0.0;   ///< ground level y, m
+  double surcharge = 0.0; ///< vertical stress on the surface, kPa (compression positive)
+  double water_level = -std::numeric_limits<double>::infinity(); ///< phreatic level y, m
+  double gamma_w = 9.81;                                         ///< unit weight of water, kN/m3
+  /// The steady (hydrostatic) pore pressure at level y, compression positive: gamma_w (level - y) below.
+  [[nodiscard]] double pore_pressure(double y) const {
+    return y < water_level ? gamma_w * (water_level - y) : 0.0;
+  }
+  /// The vertical effective stress at level y (tension positive; 0 above the surface): the total
+  /// weight of the soil (and of water standing above the surface) above y, plus the surcharge,
+  /// less the pore pressure.
+  [[nodiscard]] double vertical_effective(double y) const {
+    if (!(y < surface)) return 0.0;
+    const double wet_top = std::min(surface, water_level);
+    const double below = std::max(wet_top - y, 0.0); // thickness under the water table
+    const double above = (surface - y) - below;
+    const double standing = water_level > surface ? gamma_w * (water_level - surface) : 0.0;
+    return -(surcharge + standing + gamma * above + gamma_sat * below) + pore_pressure(y);
+  }
+};
+
+/// Sets the geostatic effective stress sigma'_v = AtRest::vertical_effective(y), sigma'_h = K0
+/// sigma'_v at every integration point of the active cells in `cells` (history initialised for
+/// that stress); interface cells carry the normal traction on their plane.
+void set_geostatic(Model& model, const std::vector<int>& cells, const AtRest& state);
 
 /// Initial stress of freshly placed cells: zero, or the fluid's hydrostatic -gamma (surface - y) I.
 void set_placed_stress(Model& model, const std::vector<int>& cells, bool hydrostatic, double gamma,
