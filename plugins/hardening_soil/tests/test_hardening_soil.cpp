@@ -290,6 +290,96 @@ TEST_CASE("hardening_soil: consistent tangent against finite differences in ever
   }
 }
 
+TEST_CASE("hardening_soil: consistent tangent and return at every corner of the surfaces",
+          "[hardening_soil][corner]") {
+  // Each corner where two or more surfaces are active together (S shear hardening, M Mohr-Coulomb,
+  // C cap, T the tension planes): one normally consolidated start on S and C (OCR = 1) and one
+  // strain increment that ends there. Checked: the expected active set, the returned stress on
+  // every active surface (|f_k| <= 1e-9 max(|s|, p_ref)), the consistent tangent against central
+  // differences (relative 1e-6; at the apex, where the stress is fixed, the tangent and the
+  // differences are zero to 1e-5 kPa per unit strain). The increments are small enough that the
+  // whole increment is returned at once (no sub-increments).
+  hs::Parameters P = base_set();
+  P.tension = 5.0;
+  auto m = make(P);
+  struct Corner {
+    unsigned status;
+    double start[3];
+    double dir[4];
+    double size;
+  };
+  const unsigned S = 1u << hs::S, M = 1u << hs::M, C = 1u << hs::C;
+  const unsigned T2 = 1u << hs::T2, T12 = (1u << hs::T1) | (1u << hs::T2), T012 = (1u << hs::T0) | T12;
+  const Corner corners[] = {
+      {S | C, {-20, -40, -20}, {-1.0, -1.6, 0.8, -1.4}, 5.1e-4},
+      {M | C, {-100, -100, -100}, {-1.9, -0.9, 1.8, -0.9}, 9.38e-3},
+      {M | C, {-20, -40, -20}, {0.5, -1.6, 1.8, 0.5}, 7.48e-4},
+      {S | T2, {-100, -100, -100}, {-1.3, 2.0, 0.8, 1.0}, 2.14e-3},
+      {M | T2, {-20, -40, -20}, {0.9, -0.4, 0.4, -1.9}, 6.07e-3},
+      {S | C | T2, {-5, -10, -5}, {1.3, -0.2, 0.0, -0.8}, 8.35e-4},
+      {M | C | T2, {-5, -10, -5}, {-0.4, 1.8, -1.5, 0.6}, 2.6e-3},
+      {T12, {-20, -40, -20}, {0.4, 1.9, 1.0, 1.1}, 5.55e-4},
+      {S | T12, {-5, -10, -5}, {0.0, 1.7, 1.1, 1.9}, 4.1e-4},
+      {M | T12, {-20, -40, -20}, {1.2, -0.6, 1.1, 1.6}, 5.81e-3},
+      {S | C | T12, {-5, -10, -5}, {1.8, -0.9, 1.4, 0.0}, 1.94e-3},
+      {M | C | T12, {-5, -10, -5}, {0.6, 0.6, -1.2, 0.1}, 8.2e-3},
+      {T012, {-50, -100, -50}, {1.0, 1.3, 1.4, -1.7}, 6.91e-3},
+      {S | T012, {-100, -100, -100}, {1.5, 1.2, 1.4, -0.4}, 4.39e-3},
+  };
+  for (const Corner& c : corners) {
+    INFO("expected active set " << c.status);
+    const Point pt = at(*m, diag(c.start[0], c.start[1], c.start[2]));
+    const Vec6 de = c.size * (Vec6() << c.dir[0], c.dir[1], c.dir[2], c.dir[3], 0.0, 0.0).finished();
+    Vec6 s;
+    std::vector<double> h;
+    Mat6 T;
+    REQUIRE(step(*m, pt, de, s, h, T).ok());
+    REQUIRE(static_cast<unsigned>(h[hs::slot::status]) == c.status);
+    const Eigen::Vector3d sp = -stratum::principal_tension(s); // compression positive, s1 >= s2 >= s3
+    const double bound = 1e-9 * std::max(sp.cwiseAbs().maxCoeff(), P.p_ref);
+    for (int k = 0; k < hs::n_surfaces; ++k)
+      if (c.status & (1u << k)) {
+        INFO("surface " << k);
+        CHECK(std::abs(m->core().yield<double>(k, sp.data(), h[hs::slot::gamma_p], h[hs::slot::p_p])) <=
+              bound);
+      }
+    int st = -1;
+    const double err = fd_error(*m, pt, de, st);
+    if ((c.status & T012) == T012) {
+      CHECK(T.norm() == 0.0); // the apex: the stress is (T, T, T) whatever the strain
+      CHECK(err < 1e-5);
+    } else {
+      CHECK(err < 1e-6);
+    }
+  }
+}
+
+TEST_CASE("hardening_soil: a failing local return is an outcome, not an exception", "[hardening_soil]") {
+  // Non-finite input and increments far beyond anything a load step gives (the trial far outside
+  // every surface) come back as an Outcome; nothing throws.
+  hs::Parameters P = base_set();
+  P.tension = 5.0;
+  auto m = make(P);
+  const Point pt = at(*m, diag(-20, -40, -20));
+  Vec6 s;
+  std::vector<double> h;
+  Mat6 T;
+  Vec6 bad = diag(1e-4, 0.0, 0.0);
+  bad[2] = std::numeric_limits<double>::quiet_NaN();
+  stratum::Outcome o = stratum::Outcome::success();
+  CHECK_NOTHROW(o = step(*m, pt, bad, s, h, T));
+  CHECK(!o.ok());
+  for (double size : {0.5, 5.0, 50.0}) {
+    INFO("increment " << size);
+    const Vec6 huge = size * (Vec6() << 1.0, -3.0, 2.0, 1.5, -0.5, 0.7).finished();
+    CHECK_NOTHROW(o = step(*m, pt, huge, s, h, T));
+    if (o.ok()) {
+      CHECK(s.allFinite());
+      CHECK(T.allFinite());
+    }
+  }
+}
+
 TEST_CASE("hardening_soil: small-strain secant law, tangent floor and reversal", "[hardening_soil]") {
   hs::Parameters P = base_set();
   P.p_p0 = 1e5;
