@@ -10,7 +10,8 @@
 //    fluid's compressibility included), and the degree of consolidation (from the settlement)
 //      U(T) = 1 - sum_m (2 / M_m^2) exp(-M_m^2 T).
 //    Asserted at T = 0.05, 0.1, 0.2, 0.5, 1: the isochrones within 1 % of p0 at every pressure
-//    node, U(T) within 1 % of the series value.
+//    node, U(T) within 1 % of the series value; for 40 quad8p4 cells and for 160 tri6p3 triangles
+//    (a Gmsh mesh).
 //  * Mandel's problem (plane strain): a quarter of a 2a x 2b specimen (a = 1, b = 1) squeezed by
 //    the pressure s0 through a rigid, smooth plate (an isotropic plate of E = 1e9 kPa on a
 //    zero-strength interface of shear stiffness 1e-3 kPa/m, so that it neither bends nor holds
@@ -98,6 +99,22 @@ std::string column(const std::string& formulation, int ny, const std::string& mo
     << "\n"
     << more;
   return s.str();
+}
+
+/// The same column of 6-node u-p triangles (tri6p3): 2 x 40 rectangles of a Gmsh mesh
+/// (tests/scenes/groundwater/column_tri6.msh, written by make_column_tri6.py beside it), each split
+/// along an alternating diagonal; its edge sets are top, bottom, left, right.
+std::string tri_column(const std::string& more) {
+  std::string s = column("plane_strain", 1, more);
+  s = testing::replace_once(s,
+                            "[mesh]\ngenerator = \"blocks\"\nnodes_per_cell = 8\n[[mesh.blocks]]\nname = "
+                            "\"soil\"\nx = [0.0, 1.0]\ny = [0.0, 10]\nnx = 1\nny = 1\n",
+                            "[mesh]\ngenerator = \"gmsh\"\nfile = \"" +
+                                testing::scene_path("groundwater/column_tri6.msh") + "\"\n");
+  s = testing::replace_once(s, "element = \"quad8p4\"", "element = \"tri6p3\"");
+  for (auto at = s.find("\"soil.top\""); at != std::string::npos; at = s.find("\"soil.top\""))
+    s.replace(at, 10, "\"top\"");
+  return s;
 }
 
 std::unique_ptr<Analysis> build(const std::string& toml, RunOptions o = {}) {
@@ -188,7 +205,9 @@ TEST_CASE("groundwater: Terzaghi's consolidation follows the series solution wit
           isochrones[mark].push_back({H - m.mesh.nodes[n].y(), m.u[d]});
     }
   };
-  auto a = build(column("plane_strain", 40, more.str()), std::move(o));
+  const bool triangles = GENERATE(false, true);
+  INFO((triangles ? "tri6p3, 160 triangles" : "quad8p4, 40 quadrilaterals"));
+  auto a = build(triangles ? tri_column(more.str()) : column("plane_strain", 40, more.str()), std::move(o));
   analysis = a.get();
   const RunSummary s = a->run();
   REQUIRE(s.outcome.ok());
@@ -597,56 +616,6 @@ TEST_CASE("groundwater: bad input gets one located line", "[groundwater]") {
       "groundwater.toml");
   REQUIRE(sealed->warnings().size() == 1);
   CHECK_THAT(sealed->warnings()[0], Contains("no drained boundary"));
-}
-
-TEST_CASE("groundwater: inputs/verification/terzaghi.toml passes its checks", "[groundwater]") {
-  auto a = testing::scene_file(testing::source_path("inputs/verification/terzaghi.toml"));
-  const RunSummary s = a->run();
-  REQUIRE(s.outcome.ok());
-  REQUIRE(s.checks.size() == 2);
-  for (const auto& c : s.checks) {
-    INFO(c.label << ": " << c.value << " against " << c.expected << " +- " << c.tolerance);
-    CHECK(c.pass);
-  }
-}
-
-TEST_CASE(
-    "groundwater: a displacement domain with drainage = undrained carries the excess pressure at its points",
-    "[groundwater]") {
-  std::string text = column("axisymmetric", 4, "");
-  text = testing::replace_once(text, "element = \"quad8p4\"", "element = \"quad\"\ndrainage = \"undrained\"");
-  std::ostringstream kf;
-  kf.precision(17);
-  kf << "fluid_stiffness = " << fluid() << "\n";
-  for (const char* key :
-       {"permeability = 1e-08\n", "porosity = 0.40000000000000002\n", "fluid_bulk_modulus = 2200000\n"})
-    text = testing::replace_once(text, key, "");
-  text = testing::replace_once(text, "unit_weight_water = 10\n", kf.str());
-  auto a = build(text);
-  const RunSummary s = a->run();
-  REQUIRE(s.outcome.ok());
-  const Model& m = a->model();
-  CHECK(m.dofs.field("p") < 0); // no pressure unknowns: the points carry it
-  CHECK(top_settlement(m) == Approx(H * (q - p0()) / oedometric()).epsilon(1e-8));
-  const Domain& dm = m.domains[0];
-  REQUIRE(dm.law.material->history_names().front() == "p_excess");
-  for (std::size_t p = 0; p < dm.states.points(); ++p) {
-    CHECK(dm.states.committed(p).history()[0] == Approx(p0()).epsilon(1e-8));
-    CHECK(dm.states.committed(p).stress()[1] == Approx(-q).epsilon(1e-8)); // the total stress
-  }
-  // Bad input: drainage on a porous element, fluid_stiffness missing or out of place.
-  const std::string porous = column("axisymmetric", 4, "");
-  CHECK_THAT(build_error(testing::replace_once(
-                 porous, "element = \"quad8p4\"",
-                 "element = \"quad8p4\"\ndrainage = \"undrained\"\nfluid_stiffness = 1e6")),
-             Catch::Contains("carries the pore pressure p itself"));
-  CHECK_THAT(build_error(testing::replace_once(text, kf.str(), "")),
-             Catch::Contains("needs fluid_stiffness"));
-  CHECK_THAT(
-      build_error(testing::replace_once(text, "drainage = \"undrained\"", "drainage = \"non_porous\"")),
-      Catch::Contains("fluid_stiffness acts only with drainage = \"undrained\""));
-  CHECK_THAT(build_error(testing::replace_once(text, "drainage = \"undrained\"", "drainage = \"undraind\"")),
-             Catch::Contains("is not allowed") && Catch::Contains("did you mean"));
 }
 
 } // namespace test_groundwater

@@ -32,9 +32,9 @@ struct LoadSpec {
   double gamma_below = 0.0;
 
   /// Checkpoints keep the applied loads (framework/src/run/checkpoint.hpp).
-  template <class Ar> void serialize(Ar& ar, unsigned /*version*/) {
-    ar& name& kind& set& p& gamma& surface& critical_depth& total_force& fx& fy& top_of_cells& water_level&
-        gamma_below;
+  template <class Ar> void serialize(Ar& ar, unsigned version) {
+    ar& name& kind& set& p& gamma& surface& critical_depth& total_force& fx& fy& top_of_cells;
+    if (version >= 1) ar& water_level& gamma_below; // class version 1: framework/src/run/checkpoint.cpp
   }
 };
 

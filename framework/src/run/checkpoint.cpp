@@ -10,6 +10,13 @@
 #include <boost/crc.hpp>
 #include <boost/serialization/string.hpp>
 #include <boost/serialization/vector.hpp>
+#include <boost/serialization/version.hpp>
+
+// Class versions of what a checkpoint holds (the header's format stays 2: Boost writes each class's
+// version into the archive, and a reader of version 1 reads version 0 archives as they were).
+// Version 1 (2026-11-29): the model's water table, and a gravity load's level and buoyant weight.
+BOOST_CLASS_VERSION(stratum::Checkpoint, 1)
+BOOST_CLASS_VERSION(stratum::LoadSpec, 1)
 
 #include <filesystem>
 #include <fstream>

@@ -8,13 +8,14 @@
 #include "stages/stage.hpp"
 
 #include <istream>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace stratum {
 
 struct Checkpoint {
-  static constexpr int format = 3;
+  static constexpr int format = 2;
   std::string fingerprint; ///< mesh, domains and stage list of the scene that wrote it
   /// The resolved scene's parts that shaped the saved state (scene_fingerprint.hpp): name,
   /// digest and stage (-1 global) of each.
@@ -27,11 +28,14 @@ struct Checkpoint {
   std::vector<stage::LoadSpec> loads;
   std::vector<std::vector<double>> states; ///< committed state store of every domain
   double time = 0.0;                       ///< output time reached
-  double water_level = 0.0, gamma_w = 0.0; ///< Model::water (level -inf: dry)
+  /// Model::water (level -inf: dry); class version 1 on (docs/design.md: a checkpoint of version
+  /// 0, written before the water, reads as dry).
+  double water_level = -std::numeric_limits<double>::infinity(), gamma_w = 9.81;
 
-  template <class Ar> void serialize(Ar& ar, unsigned /*version*/) {
+  template <class Ar> void serialize(Ar& ar, unsigned version) {
     ar& fingerprint& part_names& part_digests& part_stages& stages_done& stage_name& u& reactions& active&
-        constrained& loads& states& time& water_level& gamma_w;
+        constrained& loads& states& time;
+    if (version >= 1) ar& water_level& gamma_w;
   }
 };
 
