@@ -610,6 +610,9 @@ TEST_CASE("groundwater: bad input gets one located line", "[groundwater]") {
                  dry, "duration = 1000.0\n",
                  "duration = 1000.0\n[[stages.actions]]\ntype = \"drain\"\nnodes = \"soil.top\"\n")),
              Contains("carries a pore pressure p"));
+  // A path-following solver would run the consolidation's time backwards.
+  CHECK_THAT(build_error(testing::replace_once(ok, "solver = \"newton\"", "solver = \"arc_length\"")),
+             Contains("needs a load-controlled solver") && Contains("arc_length"));
   // No drained boundary anywhere: a warning, the scene still runs.
   const auto sealed = testing::scene(
       testing::replace_once(ok, "[[stages.actions]]\ntype = \"drain\"\nnodes = \"soil.top\"\n", ""),

@@ -249,7 +249,17 @@ void SceneModel::rehearse_stages() {
     if (const std::string why = unheld_part(m, carried, units); !why.empty())
       throw Error(st.where, ctx + ": " + why);
     m.rebuild_dofs();
-    if (st.consolidation) check_consolidation(m, st, ctx, warnings);
+    if (st.consolidation) {
+      check_consolidation(m, st, ctx, warnings);
+      if (solver->path_following())
+        throw Error(st.where,
+                    ctx +
+                        ": type = \"consolidation\" needs a load-controlled solver: its load factor "
+                        "is time, which a path-following solver (" +
+                        solver_factory->name +
+                        ") would run backwards; use solver = \"newton\" (or "
+                        "modified_newton, kinsol)");
+    }
     solver->check(SolverCheck{m, ctx});
   }
 }
