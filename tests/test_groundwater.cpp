@@ -621,4 +621,124 @@ TEST_CASE("groundwater: bad input gets one located line", "[groundwater]") {
   CHECK_THAT(sealed->warnings()[0], Contains("no drained boundary"));
 }
 
+TEST_CASE(
+    "groundwater: a displacement domain with drainage = undrained carries the excess pressure at its points",
+    "[groundwater]") {
+  std::string text = column("axisymmetric", 4, "");
+  text = testing::replace_once(text, "element = \"quad8p4\"", "element = \"quad\"\ndrainage = \"undrained\"");
+  std::ostringstream kf;
+  kf.precision(17);
+  kf << "fluid_stiffness = " << fluid() << "\n";
+  for (const char* key :
+       {"permeability = 1e-08\n", "porosity = 0.40000000000000002\n", "fluid_bulk_modulus = 2200000\n"})
+    text = testing::replace_once(text, key, "");
+  text = testing::replace_once(text, "unit_weight_water = 10\n", kf.str());
+  auto a = build(text);
+  const RunSummary s = a->run();
+  REQUIRE(s.outcome.ok());
+  const Model& m = a->model();
+  CHECK(m.dofs.field("p") < 0); // no pressure unknowns: the points carry it
+  CHECK(top_settlement(m) == Approx(H * (q - p0()) / oedometric()).epsilon(1e-8));
+  const Domain& dm = m.domains[0];
+  REQUIRE(dm.law.material->history_names().front() == "p_excess");
+  for (std::size_t p = 0; p < dm.states.points(); ++p) {
+    CHECK(dm.states.committed(p).history()[0] == Approx(p0()).epsilon(1e-8));
+    CHECK(dm.states.committed(p).stress()[1] == Approx(-q).epsilon(1e-8)); // the total stress
+  }
+  // Bad input: drainage on a porous element, fluid_stiffness missing or out of place, a misspelling.
+  const std::string porous = column("axisymmetric", 4, "");
+  CHECK_THAT(build_error(testing::replace_once(
+                 porous, "element = \"quad8p4\"",
+                 "element = \"quad8p4\"\ndrainage = \"undrained\"\nfluid_stiffness = 1e6")),
+             Catch::Contains("carries the pore pressure p itself"));
+  CHECK_THAT(build_error(testing::replace_once(text, kf.str(), "")),
+             Catch::Contains("needs fluid_stiffness"));
+  CHECK_THAT(
+      build_error(testing::replace_once(text, "drainage = \"undrained\"", "drainage = \"non_porous\"")),
+      Catch::Contains("fluid_stiffness acts only with drainage = \"undrained\""));
+  CHECK_THAT(build_error(testing::replace_once(text, "drainage = \"undrained\"", "drainage = \"undraind\"")),
+             Catch::Contains("is not allowed") && Catch::Contains("did you mean"));
+}
+
+TEST_CASE("groundwater: a consolidation stage ends once the excess pressure is below until_excess_pressure",
+          "[groundwater]") {
+  // Terzaghi's column: the drained top from the consolidation's start, 40 equal steps over T = 1;
+  // the stage is to end at the first step whose largest |p| is below 30 kPa, and a third stage
+  // (static) follows at the time where it ended.
+  const double duration = 1.0 * H * H / cv();
+  std::ostringstream more;
+  more.precision(17);
+  more << "[[stages]]\nname = \"consolidate\"\ntype = \"consolidation\"\nduration = " << duration
+       << "\nsteps = 40\nuntil_excess_pressure = 30.0\n[[stages.actions]]\ntype = \"drain\"\nnodes = "
+          "\"soil.top\"\n"
+       << "[[stages]]\nname = \"more\"\n[[stages.actions]]\ntype = \"pressure\"\nname = \"extra\"\nedges = "
+          "\"soil.top\"\np = 10.0\n";
+  struct Sample {
+    int stage;
+    double lambda, largest, stage_start;
+  };
+  std::vector<Sample> samples;
+  Analysis* analysis = nullptr;
+  RunOptions o;
+  o.on_step = [&](int, int, double lambda, const StepReport&) {
+    const Model& m = analysis->model();
+    double largest = 0.0;
+    for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
+      if (const int d = m.dofs.dof(static_cast<int>(n), m.dofs.field("p")); d >= 0)
+        largest = std::max(largest, std::abs(m.u[d]));
+    samples.push_back({m.clock.stage, lambda, largest, m.clock.total_time - m.clock.step_time});
+  };
+  auto a = build(column("plane_strain", 10, more.str()), std::move(o));
+  analysis = a.get();
+  const RunSummary s = a->run();
+  REQUIRE(s.outcome.ok());
+  CHECK(s.stages_done == 3);
+  std::vector<Sample> consolidation;
+  for (const auto& x : samples)
+    if (x.stage == 2) consolidation.push_back(x);
+  REQUIRE(consolidation.size() >= 2);
+  const Sample last = consolidation.back(), before = consolidation[consolidation.size() - 2];
+  CHECK(last.largest < 30.0);    // it ended when the pressure was below the bound
+  CHECK(before.largest >= 30.0); // and not a step earlier
+  // The base is the slowest point: by the series' first term its pressure falls below 0.3 p0 at
+  // (4/pi) exp(-pi^2 T / 4) = 0.3, T = 0.59.
+  CHECK(last.lambda > 0.5);
+  CHECK(last.lambda < 0.7);
+  CHECK(last.stage_start == Approx(1.0)); // the static load stage counts one unit
+  const Sample next = samples.back();
+  REQUIRE(next.stage == 3);
+  CHECK(next.stage_start == Approx(1.0 + last.lambda * duration).epsilon(1e-12));
+}
+
+TEST_CASE("groundwater: seal closes a drained boundary again", "[groundwater]") {
+  // The column drains through its top for a while (T = 0.1), then the top is sealed and the water
+  // only evens out inside: the top's pressure, held at 0 while drained, rises towards the mean, and
+  // no water leaves (the mean excess pressure stays, to the storage's small share).
+  const double duration = 0.1 * H * H / cv();
+  std::ostringstream more;
+  more.precision(17);
+  more << "[[stages]]\nname = \"drain\"\ntype = \"consolidation\"\nduration = " << duration
+       << "\nsteps = 20\n[[stages.actions]]\ntype = \"drain\"\nnodes = \"soil.top\"\n"
+       << "[[stages]]\nname = \"sealed\"\ntype = \"consolidation\"\nduration = " << 10.0 * duration
+       << "\nsteps = 20\n[[stages.actions]]\ntype = \"seal\"\nnodes = \"soil.top\"\n";
+  std::map<int, std::pair<double, double>> end_of; // stage -> (top p, settlement)
+  Analysis* analysis = nullptr;
+  RunOptions o;
+  o.on_step = [&](int, int, double, const StepReport&) {
+    const Model& m = analysis->model();
+    const int top = testing::node_at(m, 0.0, H);
+    end_of[m.clock.stage] = {m.u[m.dofs.dof(top, m.dofs.field("p"))], top_settlement(m)};
+  };
+  auto a = build(column("plane_strain", 10, more.str()), std::move(o));
+  analysis = a.get();
+  const RunSummary s = a->run();
+  REQUIRE(s.outcome.ok());
+  CHECK(end_of[2].first == 0.0);       // drained: held at 0
+  CHECK(end_of[3].first > 0.2 * p0()); // sealed: the pressure came back to the top
+  // Sealed, the skeleton's volume changes only by the fluid's compression: the settlement moves by
+  // far less than it did while draining.
+  CHECK(std::abs(end_of[3].second - end_of[2].second) <
+        0.01 * (end_of[2].second - H * (q - p0()) / oedometric()));
+}
+
 } // namespace test_groundwater
