@@ -135,7 +135,7 @@ int Recorder::column(const std::string& quantity) const {
   return it == quantities_.end() ? -1 : static_cast<int>(it - quantities_.begin());
 }
 
-void Recorder::sample(const Model& m, int stage, int step, double lambda, int iterations) {
+void Recorder::sample(const Model& m, int stage, int step, double lambda, int iterations, double time) {
   RecorderRow r{stage, step, lambda, {}};
   const auto reaction = [&](int d) {
     if (m.dofs.eq[static_cast<std::size_t>(d)] >= 0) return 0.0; // a free DOF carries no reaction
@@ -188,7 +188,7 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
         }
       }
   } else {
-    v = {lambda, static_cast<double>(iterations), static_cast<double>(stage - 1) + lambda};
+    v = {lambda, static_cast<double>(iterations), time};
   }
   for (const auto& q : quantities_) {
     const auto it = std::find(names.begin(), names.end(), q);

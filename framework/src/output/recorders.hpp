@@ -32,8 +32,9 @@ public:
   /// The rows of the last recorded step (one, or one per point for an interface); empty if none.
   [[nodiscard]] std::vector<const RecorderRow*> last_step() const;
 
-  /// Samples the model's converged state (reactions already updated).
-  void sample(const Model& model, int stage, int step, double lambda, int iterations);
+  /// Samples the model's converged state (reactions already updated); `time` is the analysis time
+  /// it is reached at (one unit per static stage, the seconds of consolidation stages; the VTK time).
+  void sample(const Model& model, int stage, int step, double lambda, int iterations, double time);
   /// The CSV text: stage,step,lambda,<quantities>.
   [[nodiscard]] std::string csv() const;
 

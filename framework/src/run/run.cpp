@@ -81,7 +81,7 @@ RunSummary Analysis::run() {
     s.state.axial_rows.clear();
     s.state.shaft_rows.clear();
     // The recorders' first row: the state the run starts from (step 0 of its first stage).
-    for (auto& r : s.recorders) r.sample(m, static_cast<int>(first) + 1, 0, 0.0, 0);
+    for (auto& r : s.recorders) r.sample(m, static_cast<int>(first) + 1, 0, 0.0, 0, s.state.time);
     for (std::size_t k = first; k < sm.stages.size(); ++k) {
       const bool go_on = s.run_stage(k, summary, writer.get());
       if (!summary.outcome.ok()) break;

@@ -315,7 +315,8 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
     record_pile(pile.observe(m, true), summary);
     written = writer && st.vtk && step % st.every == 0;
     if (written) timed(summary.times.output, [&] { write_step(*writer, view()); });
-    for (auto& r : recorders) r.sample(m, static_cast<int>(k) + 1, step, m.lambda, rec.iterations);
+    for (auto& r : recorders)
+      r.sample(m, static_cast<int>(k) + 1, step, m.lambda, rec.iterations, state.time);
     live.push_back(rec);
     live.back().stage = static_cast<int>(k) + 1;
     if (seconds_since(last_tables) >= settings.tables_every)
