@@ -19,6 +19,50 @@ const char* stop_reason_name(StopReason reason) {
   return enum_name(reason, names, "");
 }
 
+namespace {
+
+/// The state after stage k that a checkpoint keeps: the scene's parts that shaped it, the
+/// unknowns and reactions, the active cells and constraints, the loads, the committed points,
+/// the time and the water table.
+Checkpoint snapshot(SceneModel& sm, const std::vector<LoadSpec>& loads, double time, std::size_t k) {
+  const Model& m = sm.model;
+  Checkpoint c;
+  c.fingerprint = sm.fingerprint;
+  sm.add_library_parts();
+  for (const auto& p : sm.parts)
+    if (p.stage <= static_cast<int>(k)) {
+      c.part_names.push_back(p.name);
+      c.part_digests.push_back(p.digest);
+      c.part_stages.push_back(p.stage);
+    }
+  c.stages_done = static_cast<int>(k + 1);
+  c.stage_name = sm.stages[k].name;
+  c.u.assign(m.u.data(), m.u.data() + m.u.size());
+  c.reactions.assign(m.reactions.data(), m.reactions.data() + m.reactions.size());
+  c.active = m.active;
+  c.constrained = m.constrained;
+  c.loads = loads;
+  for (const auto& dm : m.domains) c.states.push_back(dm.states.committed_data());
+  c.time = time;
+  c.water_level = m.water.level, c.gamma_w = m.water.gamma_w;
+  return c;
+}
+
+/// The model, the applied loads and the time from a checkpoint already checked against the scene.
+void restore(const Checkpoint& c, Model& m, std::vector<LoadSpec>& loads, double& time) {
+  m.u = Eigen::Map<const Eigen::VectorXd>(c.u.data(), static_cast<Eigen::Index>(c.u.size()));
+  m.reactions =
+      Eigen::Map<const Eigen::VectorXd>(c.reactions.data(), static_cast<Eigen::Index>(c.reactions.size()));
+  m.active = c.active;
+  m.constrained = c.constrained;
+  loads = c.loads;
+  for (std::size_t d = 0; d < m.domains.size(); ++d) m.domains[d].states.restore(c.states[d]);
+  time = c.time;
+  m.water = Water{c.water_level, c.gamma_w};
+}
+
+} // namespace
+
 RunSummary Analysis::run() {
   const auto t_run = std::chrono::steady_clock::now();
   Impl& s = *impl_;
@@ -45,15 +89,7 @@ RunSummary Analysis::run() {
       throw Error(where, "--restart-from " + path + ": " + why);
     if (c.states.size() != m.domains.size() || c.u.size() != static_cast<std::size_t>(m.u.size()))
       throw Error(path + ": the checkpoint does not match the scene's model size");
-    m.u = Eigen::Map<const Eigen::VectorXd>(c.u.data(), static_cast<Eigen::Index>(c.u.size()));
-    m.reactions =
-        Eigen::Map<const Eigen::VectorXd>(c.reactions.data(), static_cast<Eigen::Index>(c.reactions.size()));
-    m.active = c.active;
-    m.constrained = c.constrained;
-    s.loads = c.loads;
-    for (std::size_t d = 0; d < m.domains.size(); ++d) m.domains[d].states.restore(c.states[d]);
-    s.state.time = c.time;
-    m.water = Water{c.water_level, c.gamma_w};
+    restore(c, m, s.loads, s.state.time);
     first = static_cast<std::size_t>(c.stages_done);
     summary.stages_done = c.stages_done;
   }
@@ -90,25 +126,7 @@ RunSummary Analysis::run() {
       summary.stages_done = static_cast<int>(k + 1);
       if (sm.stages[k].checkpoint && s.options.write_output && go_on) {
         const auto t_ckpt = std::chrono::steady_clock::now();
-        Checkpoint c;
-        c.fingerprint = sm.fingerprint;
-        sm.add_library_parts();
-        for (const auto& p : sm.parts)
-          if (p.stage <= static_cast<int>(k)) {
-            c.part_names.push_back(p.name);
-            c.part_digests.push_back(p.digest);
-            c.part_stages.push_back(p.stage);
-          }
-        c.stages_done = static_cast<int>(k + 1);
-        c.stage_name = sm.stages[k].name;
-        c.u.assign(m.u.data(), m.u.data() + m.u.size());
-        c.reactions.assign(m.reactions.data(), m.reactions.data() + m.reactions.size());
-        c.active = m.active;
-        c.constrained = m.constrained;
-        c.loads = s.loads;
-        for (const auto& dm : m.domains) c.states.push_back(dm.states.committed_data());
-        c.time = s.state.time;
-        c.water_level = m.water.level, c.gamma_w = m.water.gamma_w;
+        const Checkpoint c = snapshot(sm, s.loads, s.state.time, k);
         const auto path = (fs::path(summary.out_dir) / "checkpoints" /
                            (std::to_string(k + 1) + "_" + sm.stages[k].name + ".ckpt"))
                               .string();
