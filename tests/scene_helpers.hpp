@@ -2,6 +2,7 @@
 #pragma once
 
 #include "stratum/analysis.hpp"
+#include "stratum/error.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -18,6 +19,16 @@ inline std::unique_ptr<Analysis> scene(const std::string& toml, const std::strin
   o.plugin_dirs = {STRATUM_PLUGIN_DIR};
   o.write_output = false;
   return Analysis::from_string(toml, name, std::move(o));
+}
+
+/// The message of the error that building `toml` (as file `name`) throws; "" when it builds.
+inline std::string build_error(const std::string& toml, const std::string& name = "test.toml") {
+  try {
+    (void)scene(toml, name);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
 }
 
 /// The path of a file of the source tree, e.g. source_path("plugins/tri/tests/scenes/patch.toml").

@@ -563,15 +563,8 @@ name = "shear"
 
 namespace {
 
-/// The message of the error building `text` throws; "" when it builds.
-std::string build_error(const std::string& text) {
-  try {
-    (void)testing::scene(text, "groundwater.toml");
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+/// The message of the error building `text` (as groundwater.toml) throws; "" when it builds.
+std::string build_error(const std::string& text) { return testing::build_error(text, "groundwater.toml"); }
 
 const std::string consolidate =
     "[[stages]]\nname = \"consolidate\"\ntype = \"consolidation\"\nduration = 1000.0\n"

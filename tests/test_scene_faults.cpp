@@ -36,14 +36,7 @@ int next_line(const std::string& text) {
 }
 
 /// The message of the error that building `text` (as faults.toml) throws; "" when it builds.
-std::string build_error(const std::string& text) {
-  try {
-    (void)testing::scene(text, "faults.toml");
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+std::string build_error(const std::string& text) { return testing::build_error(text, "faults.toml"); }
 
 std::vector<std::string> build_warnings(const std::string& text) {
   return testing::scene(text, "faults.toml")->warnings();
