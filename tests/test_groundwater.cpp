@@ -734,4 +734,65 @@ TEST_CASE("groundwater: seal closes a drained boundary again", "[groundwater]") 
         0.01 * (end_of[2].second - H * (q - p0()) / oedometric()));
 }
 
+TEST_CASE("groundwater: the clay pile scene loads undrained, consolidates and loads drained to 10 % of d",
+          "[groundwater]") {
+  // inputs/clay_pile/clay_pile.toml (docs/validation/clay_pile.md). What is asserted is physics the
+  // scene must show, not its own earlier numbers: the undrained load raises the excess pressure
+  // beside the shaft; consolidation lets it fall to a small part of that and adds settlement
+  // without load; the drained stage, 100 times longer than the consolidation, keeps it small while
+  // the head load grows to the 10 % of d stop.
+  struct Sample {
+    int stage;
+    double head, p_shaft, largest;
+  };
+  std::vector<Sample> samples;
+  Analysis* analysis = nullptr;
+  RunOptions o;
+  o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+  o.write_output = false;
+  o.on_step = [&](int, int, double, const StepReport&) {
+    const Model& m = analysis->model();
+    const int pf = m.dofs.field("p");
+    double largest = 0.0, head = 0.0;
+    int heads = 0;
+    for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n) {
+      const auto& x = m.mesh.nodes[n];
+      if (const int d = m.dofs.dof(static_cast<int>(n), pf); d >= 0 && x.x() > 0.3 - 1e-9)
+        largest = std::max(largest, std::abs(m.u[d])); // the clay's nodes (the bore's are left alone)
+      if (std::abs(x.y()) < 1e-9 && x.x() < 0.3 + 1e-9)
+        head -= m.u[m.dofs.dof(static_cast<int>(n), field_uy)], ++heads;
+    }
+    const int shaft = testing::node_at(m, 0.3, -5.0);
+    samples.push_back({m.clock.stage, head / heads, m.u[m.dofs.dof(shaft, pf)], largest});
+  };
+  auto a = Analysis::from_file(testing::source_path("inputs/clay_pile/clay_pile.toml"), std::move(o));
+  analysis = a.get();
+  const RunSummary s = a->run();
+  REQUIRE(s.outcome.ok());
+  CHECK(s.stages_done == 5); // the sixth stage stops at 10 % of d
+  CHECK(s.stop_reason == StopReason::settlement);
+  CHECK(s.cutbacks == 0);
+  auto last_of = [&](int stage) {
+    Sample last{};
+    for (const auto& x : samples)
+      if (x.stage == stage) last = x;
+    return last;
+  };
+  const Sample loaded = last_of(4), consolidated = last_of(5), failed = last_of(6);
+  INFO("p beside the shaft: " << loaded.p_shaft << " kPa loaded, " << consolidated.p_shaft
+                              << " consolidated");
+  CHECK(loaded.p_shaft > 10.0);                        // undrained: the load went into the water
+  CHECK(consolidated.p_shaft < 0.05 * loaded.p_shaft); // one year later it has drained away
+  CHECK(consolidated.head > loaded.head + 1e-3);       // consolidation settles the pile (> 1 mm)
+  double drained_largest = 0.0;
+  for (const auto& x : samples)
+    if (x.stage == 6) drained_largest = std::max(drained_largest, std::abs(x.p_shaft));
+  CHECK(drained_largest < 0.05 * loaded.p_shaft); // drained: no pressure builds up
+  CHECK(failed.head > 0.06);                      // the stop: 10 % of d = 60 mm
+  REQUIRE(!s.load_settlement.empty());
+  // The head load hands over from the working load (150 kN) to the drained stage's 750 kN.
+  CHECK(s.load_settlement.back()[0] > 300.0);
+  CHECK(s.load_settlement.back()[0] < 750.0);
+}
+
 } // namespace test_groundwater

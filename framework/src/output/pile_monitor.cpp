@@ -4,13 +4,15 @@
 #include "stratum/load.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 namespace stratum {
 
 PileMonitor::PileMonitor(const Model& model, const stage::Stage& stage, const LoadSpec* head,
-                         const std::vector<int>& head_disp, const std::vector<int>* pile,
-                         std::vector<std::size_t> interface_domains, const Units& units)
+                         const std::vector<LoadSpec>& before, const std::vector<int>& head_disp,
+                         const std::vector<int>* pile, std::vector<std::size_t> interface_domains,
+                         const Units& units)
     : stop_settlement_(stage.stop_settlement), pile_(pile), interface_domains_(std::move(interface_domains)),
       small_(units.small_length_factor()), per_unit_(1e6 * units.length_in_m()) {
   if (!stage.monitor.empty()) monitored_ = &model.mesh.node_sets.at(stage.monitor);
@@ -20,11 +22,18 @@ PileMonitor::PileMonitor(const Model& model, const stage::Stage& stage, const Lo
   has_head_ = head || displaced_head_;
   if (!monitored_ && has_head_) monitored_ = &head_nodes_;
   force_ = head ? head->total_force : 0.0;
+  // A head load that replaces the one of an earlier stage on the same head (removed in this stage)
+  // takes over from it: the load vector goes from the old total to the new one over the stage.
+  if (head)
+    for (const auto& l : before)
+      if (l.kind == head->kind && std::isfinite(l.total_force) && l.top_of_cells == head->top_of_cells &&
+          l.set == head->set && l.name != head->name)
+        start_force_ += l.total_force;
 }
 
 // m.reactions holds the internal forces; a fixed DOF's external load is in load_base.
 double PileMonitor::head_load(const Model& m, bool stepped) const {
-  if (!displaced_head_) return m.lambda * force_;
+  if (!displaced_head_) return start_force_ + m.lambda * (force_ - start_force_);
   double P = 0.0;
   if (stepped)
     for (int n : head_nodes_) {

@@ -31,9 +31,11 @@ public:
   /// head: the stage's load on the pile head (StageState::head_load), or null; head_disp: the
   /// nodes of a displacement-controlled head (StageState::head_nodes); pile: [output] pile_cells
   /// (null: none); interface_domains: the indices into model.domains of the scene's interfaces.
+  /// before: the loads acting when the stage started; a head load among them on the same head,
+  /// removed by this stage, is where the stage's head load starts (it hands over linearly).
   PileMonitor(const Model& model, const stage::Stage& stage, const LoadSpec* head,
-              const std::vector<int>& head_disp, const std::vector<int>* pile,
-              std::vector<std::size_t> interface_domains, const Units& units);
+              const std::vector<LoadSpec>& before, const std::vector<int>& head_disp,
+              const std::vector<int>* pile, std::vector<std::size_t> interface_domains, const Units& units);
   PileMonitor(const PileMonitor&) = delete; // monitored() may point at head_nodes_
   PileMonitor& operator=(const PileMonitor&) = delete;
 
@@ -56,6 +58,7 @@ private:
   std::vector<int> head_nodes_;
   bool displaced_head_ = false, has_head_ = false;
   double force_ = 0.0;                          ///< the head load's total force (a loaded head)
+  double start_force_ = 0.0;                    ///< the head loads on the same head before the stage
   const std::vector<int>* monitored_ = nullptr; ///< the stage's monitor set, else the head
   double stop_settlement_ = 0.0;
   const std::vector<int>* pile_ = nullptr;

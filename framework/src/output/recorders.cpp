@@ -96,6 +96,7 @@ Recorder::Recorder(const RecorderSpec& spec, const Model& model)
     const double size = std::max(hi[0] - lo[0], hi[1] - lo[1]);
     if (best < 0 || best_d > 1e-6 * size) {
       std::ostringstream m;
+      m.precision(10); // enough digits for the nearest node's position to be copied into the scene
       m << ctx << " no node at (" << at_[0] << ", " << at_[1] << ")";
       if (best >= 0)
         m << "; the nearest is node " << best << " at ("

@@ -276,7 +276,8 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   for (const auto& i : sm.interfaces.interfaces) itf.push_back(i.domain);
   const std::vector<int>* pile_cells =
       settings.pile_cells.empty() ? nullptr : &m.mesh.cell_sets.at(settings.pile_cells);
-  PileMonitor pile(m, st, actions.head_load, actions.head_nodes, pile_cells, std::move(itf), sm.units);
+  PileMonitor pile(m, st, actions.head_load, loads_before, actions.head_nodes, pile_cells, std::move(itf),
+                   sm.units);
   if (pile.has_head() && summary.load_settlement.empty()) record_pile(pile.observe(m, false), summary);
 
   // ---- load steps (stratum/step_control.hpp)
