@@ -795,4 +795,85 @@ TEST_CASE("groundwater: the clay pile scene loads undrained, consolidates and lo
   CHECK(s.load_settlement.back()[0] < 750.0);
 }
 
+TEST_CASE("groundwater: a water_level action lowers the table; the excess drains to the closed form",
+          "[groundwater]") {
+  // A 10 m column (linear elastic skeleton, quad8p4), water table at its top; the table is lowered
+  // to y = 6 in a consolidation stage of T = 5 with the top drained. At the instant the level moves,
+  // the water keeps its pressure: below 6 m the excess is gamma_w dh = 40 kPa. Drained at the end,
+  // the effective stress is the geostatic one of the new level (gamma = 17 above it, buoyant
+  // gamma_sat - gamma_w = 10 below), an increase of 7 (10 - y) above 6 m and 28 kPa below, and the
+  // top settles by (int_6^10 7 (10 - y) dy + 28 x 6) / M = 224 / M.
+  constexpr double gamma = 17.0, gamma_sat = 20.0, gw = 10.0, K0 = 0.5, level = 6.0;
+  const double duration = 5.0 * H * H / cv();
+  std::ostringstream s;
+  s.precision(17);
+  s << "[analysis]\nformulation = \"plane_strain\"\nsolver = \"newton\"\nautomatic = true\ngrowth = 1.3\n"
+    << "fast_iterations = 3\nmax_increment = 0.05\n"
+    << "[mesh]\ngenerator = \"blocks\"\nnodes_per_cell = 8\n[[mesh.blocks]]\nname = \"soil\"\nx = [0.0, "
+       "1.0]\n"
+    << "y = [0.0, 10.0]\nnx = 1\nny = 10\n"
+    << "[materials.soil]\nmodel = \"linear_elastic\"\nE = " << E << "\nnu = " << nu << "\n"
+    << "[[domains]]\ncells = \"soil\"\nelement = \"quad8p4\"\nmaterial = \"soil\"\npermeability = " << k_perm
+    << "\nporosity = " << n_por << "\nfluid_bulk_modulus = " << K_w << "\nunit_weight_water = " << gw << "\n"
+    << "[[constraints]]\nnodes = \"left\"\nux = 0.0\n[[constraints]]\nnodes = \"right\"\nux = 0.0\n"
+    << "[[constraints]]\nnodes = \"bottom\"\nuy = 0.0\n"
+    << "[[stages]]\nname = \"geostatic\"\n[[stages.actions]]\ntype = \"geostatic\"\ngamma = " << gamma
+    << "\ngamma_sat = " << gamma_sat << "\ngamma_w = " << gw << "\nK0 = " << K0 << "\nsurface = 10.0\n"
+    << "water_level = 10.0\n"
+    << "[[stages]]\nname = \"lower\"\ntype = \"consolidation\"\nduration = " << duration
+    << "\nsteps = 10000\n"
+    << "[[stages.actions]]\ntype = \"drain\"\nnodes = \"soil.top\"\n"
+    << "[[stages.actions]]\ntype = \"water_level\"\nlevel = " << level << "\n";
+  std::vector<double> base_p;
+  Analysis* analysis = nullptr;
+  RunOptions o;
+  o.on_step = [&](int, int, double, const StepReport&) {
+    const Model& m = analysis->model();
+    if (m.clock.stage == 2)
+      base_p.push_back(m.u[m.dofs.dof(testing::node_at(m, 0.0, 0.0), m.dofs.field("p"))]);
+  };
+  auto a = build(s.str(), std::move(o));
+  analysis = a.get();
+  const RunSummary r = a->run();
+  REQUIRE(r.outcome.ok());
+  const Model& m = a->model();
+  CHECK(m.water.level == level);
+  REQUIRE(!base_p.empty());
+  // The instant (the first step, 1e-4 of the stage): the water keeps its pressure, an excess of
+  // gamma_w dh = 40 kPa over the new level's, while the soil between the levels is unloaded by
+  // gamma_sat - gamma = 3 kN/m3 (the model's moist unit weight above the level), which the sealed
+  // column below answers undrained: -12 kPa x (K_w/n) / (M + K_w/n).
+  CHECK(base_p.front() ==
+        Approx(gw * (10.0 - level) - 12.0 * fluid() / (oedometric() + fluid())).epsilon(0.01));
+  for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
+    if (const int d = m.dofs.dof(static_cast<int>(n), m.dofs.field("p")); d >= 0)
+      CHECK(std::abs(m.u[d]) < 1e-3);
+  CHECK(top_settlement(m) == Approx(224.0 / oedometric()).epsilon(1e-3));
+  const Domain& dm = m.domains[0];
+  Eigen::MatrixXd x, xp;
+  std::vector<int> nodes;
+  for (std::size_t c = 0; c < dm.cells.size(); ++c) {
+    m.cell_nodes(dm.cells[c], nodes, x);
+    dm.element->point_coordinates(m.element_data(dm.cells[c], x), xp);
+    for (Eigen::Index i = 0; i < xp.rows(); ++i) {
+      const double y = xp(i, 1);
+      const double sv = -(gamma * (10.0 - std::max(y, level)) + (gamma_sat - gw) * std::max(level - y, 0.0));
+      CHECK(dm.states.committed(dm.first_point[c] + static_cast<std::size_t>(i)).stress()[1] ==
+            Approx(sv).epsilon(1e-4));
+    }
+  }
+}
+
+TEST_CASE(
+    "groundwater: water_level without a water table, or without its self-weight load, is one located line",
+    "[groundwater]") {
+  const std::string dry =
+      column("plane_strain", 4,
+             "[[stages]]\nname = \"lower\"\n[[stages.actions]]\ntype = \"water_level\"\nlevel "
+             "= 6.0\nload = \"nothing\"\n");
+  const std::string e = testing::build_error(dry, "groundwater.toml");
+  CHECK_THAT(e, Catch::Contains("groundwater.toml:") &&
+                    Catch::Contains("load = \"nothing\" is not an applied load"));
+}
+
 } // namespace test_groundwater

@@ -19,6 +19,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -119,6 +120,64 @@ TEST_CASE("units: unit strings read as dimensions, convert and are spelt in the 
   } catch (const Error& e) {
     CHECK_THAT(e.what(), Catch::Contains("allowed: N, kN, MN") && Catch::Contains("did you mean 'kN'"));
   }
+}
+
+TEST_CASE("units: a time unit converts durations and permeabilities, nothing else", "[units][groundwater]") {
+  const Units days("kN", "m", "day");
+  CHECK_FALSE(days.is_default());
+  CHECK(days.time() == "day");
+  CHECK(*days.factor("s") == Approx(1.0 / 86400.0).epsilon(1e-15)); // a duration
+  CHECK(*days.factor("m/s") == Approx(86400.0).epsilon(1e-15));     // a permeability: m/s to m/day
+  CHECK(*days.factor("kPa") == 1.0);                                // force and length as they were
+  CHECK(*days.factor("kN/m3") == 1.0);
+  CHECK(*days.factor("s (wall clock)") == 1.0); // progress tables: the program's seconds
+  CHECK(days.label("m/s") == "m/day");
+  CHECK(days.label("s") == "day");
+  CHECK(days.describe() == "kN, m, kPa, day");
+  CHECK(*Units("N", "mm", "h").factor("m/s") == Approx(1e3 * 3600.0).epsilon(1e-15));
+  CHECK(*Units("kN", "m", "min").factor("s") == Approx(1.0 / 60.0).epsilon(1e-15));
+  CHECK(Units("kN", "m", "s").is_default());
+  try {
+    static_cast<void>(Units("kN", "m", "days"));
+    FAIL("a time unit that is not allowed");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Catch::Contains("allowed: s, min, h, day") && Catch::Contains("did you mean 'day'"));
+  }
+}
+
+TEST_CASE("units: Terzaghi's column with [units] time = \"day\" gives the run in seconds",
+          "[units][groundwater]") {
+  // inputs/verification/terzaghi.toml as it is (seconds, k in m/s) and with its duration and
+  // permeability written in days: the same settlement and base pressure at the end, and the
+  // global recorder's time in days.
+  const std::string path = stratum::testing::source_path("inputs/verification/terzaghi.toml");
+  const std::string full = stratum::testing::read_text(path);
+  const std::string text = full.substr(0, full.find("\n[[checks]]")); // its checks are in seconds
+  const std::string in_days = stratum::testing::replace_once(
+      stratum::testing::replace_once(
+          stratum::testing::replace_once(text, "permeability = 1.0e-8 ", "permeability = 8.64e-4 "),
+          "duration = 1489350.6493506494", "duration = 17.23785473785474"),
+      "[analysis]", "[units]\ntime = \"day\"\n\n[analysis]");
+  auto run = [&](const std::string& toml) {
+    stratum::RunOptions o;
+    o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+    o.write_output = false;
+    auto a = stratum::Analysis::from_string(toml, path, std::move(o));
+    const stratum::RunSummary s = a->run();
+    REQUIRE(s.outcome.ok());
+    const stratum::Model& m = a->model();
+    const int base = stratum::testing::node_at(m, 0.0, 0.0), top = stratum::testing::node_at(m, 0.0, 10.0);
+    return std::array<double, 3>{m.u[m.dofs.dof(base, m.dofs.field("p"))],
+                                 m.u[m.dofs.dof(top, stratum::field_uy)], m.clock.total_time};
+  };
+  const auto s = run(text), d = run(in_days);
+  CHECK(d[0] == Approx(s[0]).epsilon(1e-9));
+  CHECK(d[1] == Approx(s[1]).epsilon(1e-9));
+  CHECK((d[2] - 1.0) * 86400.0 == Approx(s[2] - 1.0).epsilon(1e-9)); // the time within the stage, in days
+  // A misspelt time unit is one located line.
+  const std::string bad = stratum::testing::replace_once(in_days, "time = \"day\"", "time = \"days\"");
+  CHECK_THAT(stratum::testing::build_error(bad, path),
+             Catch::Contains("terzaghi.toml:") && Catch::Contains("did you mean 'day'"));
 }
 
 TEST_CASE("units: the Lamé cylinder in kN, m and in N, mm agrees after conversion and with the closed form",

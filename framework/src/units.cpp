@@ -4,6 +4,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <sstream>
 
 namespace stratum {
 
@@ -11,13 +12,15 @@ namespace {
 
 struct Base {
   std::string_view name;
-  int force, length;
-  double scale; // in kN and m
+  int force, length, time;
+  double scale; // in kN, m and s
 };
 
 constexpr Base bases[] = {
-    {"N", 1, 0, 1e-3}, {"kN", 1, 0, 1.0},   {"MN", 1, 0, 1e3},   {"mm", 0, 1, 1e-3},  {"cm", 0, 1, 1e-2},
-    {"m", 0, 1, 1.0},  {"Pa", 1, -2, 1e-3}, {"kPa", 1, -2, 1.0}, {"MPa", 1, -2, 1e3}, {"GPa", 1, -2, 1e6},
+    {"N", 1, 0, 0, 1e-3},   {"kN", 1, 0, 0, 1.0},      {"MN", 1, 0, 0, 1e3},   {"mm", 0, 1, 0, 1e-3},
+    {"cm", 0, 1, 0, 1e-2},  {"m", 0, 1, 0, 1.0},       {"Pa", 1, -2, 0, 1e-3}, {"kPa", 1, -2, 0, 1.0},
+    {"MPa", 1, -2, 0, 1e3}, {"GPa", 1, -2, 0, 1e6},    {"s", 0, 0, 1, 1.0},    {"min", 0, 0, 1, 60.0},
+    {"h", 0, 0, 1, 3600.0}, {"day", 0, 0, 1, 86400.0},
 };
 
 const Base* find_base(std::string_view name) {
@@ -27,8 +30,9 @@ const Base* find_base(std::string_view name) {
 }
 
 bool is_dimensionless_word(std::string_view u) {
+  // "s (wall clock)": a time the program measures (progress tables), not one of the scene's
   return u.empty() || u == "-" || u == "1" || u == "deg" || u == "degree" || u == "degrees" || u == "rad" ||
-         u == "s";
+         u == "s (wall clock)";
 }
 
 bool letter(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
@@ -74,6 +78,7 @@ std::optional<Dimension> parse_unit(std::string_view unit) {
     }
     d.force += sign * power * b->force;
     d.length += sign * power * b->length;
+    d.time += sign * power * b->time;
     d.scale *= std::pow(b->scale, sign * power);
     any = true;
     i = j;
@@ -90,6 +95,10 @@ const std::vector<std::string_view>& Units::length_units() {
   static const std::vector<std::string_view> v{"mm", "cm", "m"};
   return v;
 }
+const std::vector<std::string_view>& Units::time_units() {
+  static const std::vector<std::string_view> v{"s", "min", "h", "day"};
+  return v;
+}
 
 namespace {
 std::string list(const std::vector<std::string_view>& v) {
@@ -104,7 +113,11 @@ bool among(const std::vector<std::string_view>& v, const std::string& x) {
 }
 } // namespace
 
-Units::Units(std::string force, std::string length) : force_(std::move(force)), length_(std::move(length)) {
+Units::Units(std::string force, std::string length, std::string time)
+    : force_(std::move(force)), length_(std::move(length)), time_(std::move(time)) {
+  if (!among(time_units(), time_))
+    throw Error("time = \"" + time_ + "\" is not a time unit; allowed: " + list(time_units()) +
+                did_you_mean(time_, time_units()));
   if (!among(force_units(), force_))
     throw Error("force = \"" + force_ + "\" is not a force unit; allowed: " + list(force_units()) +
                 did_you_mean(force_, force_units()));
@@ -115,6 +128,7 @@ Units::Units(std::string force, std::string length) : force_(std::move(force)), 
 
 double Units::force_in_kN() const { return find_base(force_)->scale; }
 double Units::length_in_m() const { return find_base(length_)->scale; }
+double Units::time_in_s() const { return find_base(time_)->scale; }
 
 std::string Units::stress() const {
   // The pascal multiples that force / length^2 happens to be; otherwise spelt out.
@@ -124,13 +138,16 @@ std::string Units::stress() const {
   return force_ + "/" + length_ + "2";
 }
 
-std::string Units::describe() const { return force_ + ", " + length_ + ", " + stress(); }
+std::string Units::describe() const {
+  return force_ + ", " + length_ + ", " + stress() + (time_ == "s" ? "" : ", " + time_);
+}
 
 std::optional<double> Units::factor(std::string_view unit) const {
   const auto d = parse_unit(unit);
   if (!d) return std::nullopt;
   if (d->dimensionless()) return 1.0;
-  return d->scale / (std::pow(force_in_kN(), d->force) * std::pow(length_in_m(), d->length));
+  return d->scale / (std::pow(force_in_kN(), d->force) * std::pow(length_in_m(), d->length) *
+                     std::pow(time_in_s(), d->time));
 }
 
 std::string Units::label(std::string_view unit) const {
@@ -147,7 +164,9 @@ std::string Units::label(std::string_view unit) const {
     while (j < unit.size() && letter(unit[j])) ++j;
     const Base* b = find_base(unit.substr(i, j - i));
     const bool powered = j < unit.size() && (unit[j] == '^' || digit(unit[j]));
-    if (b->force == 1 && b->length == 0)
+    if (b->time == 1)
+      out += time_;
+    else if (b->force == 1 && b->length == 0)
       out += force_;
     else if (b->force == 0 && b->length == 1)
       out += length_;
@@ -204,14 +223,15 @@ std::string Units::column(std::string_view name, std::string_view unit) const {
 
 Units units_of(const Params& p) {
   if (!p.has(units_param)) return {};
-  const std::string& t = p.text(units_param);
-  const auto space = t.find(' ');
-  return {t.substr(0, space), t.substr(space + 1)};
+  std::istringstream words(p.text(units_param)); // "force length time"
+  std::string force, length, time = "s";
+  words >> force >> length >> time;
+  return {force, length, time};
 }
 
 void require_default_units(const Params& p, const std::string& why) {
   const Units u = units_of(p);
-  if (u.is_default()) return;
+  if (u.force() == "kN" && u.length() == "m") return; // the time unit changes none of kN, m, kPa
   throw Error(p.where(units_param), (p.context.empty() ? std::string() : p.context + " ") +
                                         "cannot compute in [units] " + u.describe() + ": " + why +
                                         "; allowed: kN, m, kPa (remove [units] or use another model)");

@@ -16,6 +16,7 @@
 
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace stratum {
@@ -47,6 +48,10 @@ struct StageState {
   /// down by a prescribed head displacement (set by the `load` action).
   const LoadSpec* head_load = nullptr;
   std::vector<int> head_nodes;
+  /// Loads that change as a jump at the stage's first step, not linearly over the stage: (before,
+  /// after) of each (the `water_level` action: the buoyancy of the self-weight follows the level at
+  /// once, as the excess pore pressure takes over the steady pressure's change at once).
+  std::vector<std::pair<LoadSpec, LoadSpec>> load_jumps;
 };
 
 class StageAction {

@@ -23,9 +23,9 @@ namespace stratum {
 /// A unit string read as force^force * length^length times `scale` (the value in kN and m of
 /// one of the unit). Angles, "-" and seconds are dimensionless here (nothing converts them).
 struct Dimension {
-  int force = 0, length = 0;
-  double scale = 1.0;
-  [[nodiscard]] bool dimensionless() const { return force == 0 && length == 0; }
+  int force = 0, length = 0, time = 0;
+  double scale = 1.0; ///< in kN, m and s
+  [[nodiscard]] bool dimensionless() const { return force == 0 && length == 0 && time == 0; }
 };
 
 /// The dimension of a unit string such as "kPa", "kN/m3", "kN m", "1/kPa", "kPa/m", "m^2",
@@ -37,17 +37,20 @@ public:
   /// kN, m (stress kPa): the framework's default system, the one plugins declare defaults in.
   Units() = default;
   /// Throws Error (without a location; the reader adds it) for a unit not allowed.
-  Units(std::string force, std::string length);
+  Units(std::string force, std::string length, std::string time = "s");
 
   [[nodiscard]] static const std::vector<std::string_view>& force_units();  ///< N, kN, MN
   [[nodiscard]] static const std::vector<std::string_view>& length_units(); ///< mm, cm, m
+  [[nodiscard]] static const std::vector<std::string_view>& time_units();   ///< s, min, h, day
 
   [[nodiscard]] const std::string& force() const { return force_; }
   [[nodiscard]] const std::string& length() const { return length_; }
+  /// The time unit of consolidation (durations, permeability in length/time): s by default.
+  [[nodiscard]] const std::string& time() const { return time_; }
   /// The stress unit: kPa, Pa, MPa, GPa, or force/length2 where there is no name (kN/cm2).
   [[nodiscard]] std::string stress() const;
   /// kN, m: true for every scene without [units].
-  [[nodiscard]] bool is_default() const { return force_ == "kN" && length_ == "m"; }
+  [[nodiscard]] bool is_default() const { return force_ == "kN" && length_ == "m" && time_ == "s"; }
   /// "N, mm, MPa": for messages and the VTK field data.
   [[nodiscard]] std::string describe() const;
 
@@ -71,15 +74,18 @@ public:
   /// kN per force unit and m per length unit (N: 1e-3; mm: 1e-3).
   [[nodiscard]] double force_in_kN() const;
   [[nodiscard]] double length_in_m() const;
+  [[nodiscard]] double time_in_s() const;
 
   /// The same force and length (where they were declared does not count).
-  [[nodiscard]] bool operator==(const Units& o) const { return force_ == o.force_ && length_ == o.length_; }
+  [[nodiscard]] bool operator==(const Units& o) const {
+    return force_ == o.force_ && length_ == o.length_ && time_ == o.time_;
+  }
 
   /// Where the scene declares them ([units] force), for messages; unknown for the default.
   SourceLocation declared_at;
 
 private:
-  std::string force_ = "kN", length_ = "m";
+  std::string force_ = "kN", length_ = "m", time_ = "s";
 };
 
 /// A "-1: none" default: a negative number that is also the parameter's lower bound (tension = -1,

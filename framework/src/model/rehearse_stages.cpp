@@ -218,7 +218,7 @@ void SceneModel::rehearse_stages() {
     const stage::Stage& st = stages[k];
     const std::string ctx = "stage \"" + st.name + "\"";
     m.prescribed = k == 0 ? initial_prescribed : Eigen::VectorXd::Zero(m.u.size());
-    StageState actions{m, loads, nullptr, {}};
+    StageState actions{m, loads, nullptr, {}, {}};
     for (const auto& a : st.actions) a->apply(actions);
     const std::vector<char> carried = carried_dofs(m);
 

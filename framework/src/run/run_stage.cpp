@@ -247,7 +247,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
 
   // ---- actions, in order (stratum/stage_action.hpp)
   const std::vector<LoadSpec> loads_before = loads;
-  StageState actions{m, loads, nullptr, {}};
+  StageState actions{m, loads, nullptr, {}, {}};
   for (const auto& a : st.actions) a->apply(actions);
 
   // ---- the stage's problem: equilibrium at its start, the target load at its end
@@ -268,7 +268,16 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   Eigen::VectorXd target = Eigen::VectorXd::Zero(m.u.size());
   for (const auto& l : loads) add_load(m, l, target);
   record_stage_loads(loads_before);
-  set_stage_load(m, f0, target);
+  // A load that jumps (StageState::load_jumps) is in full from the first step on: its change goes
+  // into the stage's base load, not into the part that grows with the load factor.
+  Eigen::VectorXd base = f0;
+  for (const auto& [before, after] : actions.load_jumps) {
+    add_load(m, after, base);
+    Eigen::VectorXd old = Eigen::VectorXd::Zero(m.u.size());
+    add_load(m, before, old);
+    base -= old;
+  }
+  set_stage_load(m, base, target);
   StaticProblem problem(m, assembler, *ls, summary.times, st.consolidation ? st.duration : 0.0);
 
   // ---- the pile's quantities (output/pile_monitor.hpp)

@@ -27,7 +27,8 @@ Units scene::read_units(const toml::table& root) {
   const auto& t = optional_table(root, "units");
   // A misspelt unit gets "did you mean" (check_table would list the allowed ones only).
   for (const auto& [key, allowed] :
-       {std::pair{"force", &Units::force_units()}, std::pair{"length", &Units::length_units()}}) {
+       {std::pair{"force", &Units::force_units()}, std::pair{"length", &Units::length_units()},
+        std::pair{"time", &Units::time_units()}}) {
     const auto* v = t.get(key);
     if (!v || !v->is_string()) continue;
     const std::string x = v->as_string()->get();
@@ -38,7 +39,7 @@ Units scene::read_units(const toml::table& root) {
                                   " is not allowed; allowed: one of: " + list + did_you_mean(x, *allowed));
   }
   const auto p = check_table(t, units_schema(), "[units]");
-  Units u(p.text("force"), p.text("length"));
+  Units u(p.text("force"), p.text("length"), p.text("time"));
   u.declared_at = p.where("force").known() ? p.where("force") : location(t);
   if (const auto* sv = t.get("stress")) {
     const std::string want = p.text("stress");

@@ -110,6 +110,7 @@ std::string recorder_quantity_unit(const std::string& q) {
   if (q == "rx" || q == "ry") return "kN";
   if (q == "sxx" || q == "syy" || q == "szz" || q == "sxy" || q == "shear_traction" || q == "normal_traction")
     return "kPa";
+  if (q == "p" || q == "p_steady") return "kPa";
   return "-";
 }
 

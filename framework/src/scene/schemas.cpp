@@ -50,6 +50,12 @@ Schema units_schema() {
          "kN, m: kPa; N, m: Pa); settlements and slips in tables are in mm when length = \"m\", "
          "otherwise in the length unit")
       .defaults_to(std::string("m"));
+  std::vector<std::string> time;
+  for (auto u : Units::time_units()) time.emplace_back(u);
+  s.text("time", time,
+         "time unit of consolidation: stage durations, permeability (length/time), the analysis time "
+         "of consolidation stages")
+      .defaults_to(std::string("s"));
   s.text("stress", {},
          "optional: the stress unit as a check of what force/length^2 gives (kPa, Pa, MPa, GPa, or "
          "e.g. \"N/mm2\"); plugins' defaults (p_a = 100 kPa, gamma_w = 9.81 kN/m3) are converted "
@@ -194,7 +200,7 @@ TableKeys output_keys() {
       .at_least(1)
       .defaults_to(1LL);
   s.text("pile_cells", {}, "cell set of the pile: curves/axial_force.csv").defaults_to(std::string());
-  s.real("tables_every", "s",
+  s.real("tables_every", "s (wall clock)",
          "diagnostics.csv and the curves are rewritten (atomically) at every stage's end and at most "
          "this often during a stage, so that they grow while a long run goes on; 0: after every step")
       .at_least(0)
@@ -287,7 +293,7 @@ TableKeys stage_keys(long long max_cutbacks, double error_tolerance, bool vtk, l
          "consolidation: the stage lasts `duration` and the pore water flows (its load factor is the "
          "fraction of the duration elapsed, loads grow linearly in time)")
       .defaults_to(std::string("static"));
-  s.real("duration", "s", "physical time of a consolidation stage (s)").greater_than(0).defaults_to(1.0);
+  s.real("duration", "s", "physical time of a consolidation stage").greater_than(0).defaults_to(1.0);
   s.real("until_excess_pressure", "kPa",
          "consolidation: end the stage (normally, the next stage follows) once the largest excess pore "
          "pressure |p| at any node is below this value; 0: run the whole duration")

@@ -142,7 +142,8 @@ Params check_table(const toml::table& table, const Schema& schema, const std::st
   }
   Params p;
   p.context = context;
-  if (!units.is_default()) p.set(units_param, units.force() + " " + units.length(), units.declared_at);
+  if (!units.is_default())
+    p.set(units_param, units.force() + " " + units.length() + " " + units.time(), units.declared_at);
   for (const auto& declared : schema.specs()) {
     const ParamSpec s = in_units(declared, units);
     const toml::node* v = table.get(s.name);

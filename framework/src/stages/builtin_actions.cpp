@@ -234,6 +234,71 @@ private:
   bool drain_;
 };
 
+/// water_level: the phreatic level moves (horizontal, from this stage on). The self-weight load of
+/// the geostatic stage follows it (a cell weighs gamma above the level, the buoyant gamma_sat -
+/// gamma_w below it), at once from the stage's first step (StageState::load_jumps), and the
+/// excess pore pressure takes over the change of the steady pressure at that instant, so that the
+/// total pore pressure is continuous: lowered by dh, the water below keeps its pressure and shows
+/// it as an excess gamma_w dh, which drains in a consolidation stage (a prescribed p, a drained
+/// boundary, keeps its value).
+class WaterLevel final : public StageAction {
+public:
+  static Schema schema() {
+    Schema g;
+    g.real("level", "m", "the new phreatic level y (horizontal)");
+    g.text("load", {}, "the self-weight load (of a geostatic action with water_level) whose buoyancy follows")
+        .defaults_to(std::string("self_weight"));
+    return g;
+  }
+  explicit WaterLevel(const Params& p) : p_(p) {}
+  void check(StageCheck& scene) override {
+    if (scene.load_names.count(p_.text("load"))) return;
+    std::string known;
+    for (const auto& n : scene.load_names) known += (known.empty() ? "" : ", ") + n;
+    throw Error(p_.where("load").known() ? p_.where("load") : p_.where("level"),
+                scene.context + " water_level: load = \"" + p_.text("load") +
+                    "\" is not an applied load; the level needs the self-weight load of a geostatic action "
+                    "with water_level (applied: " +
+                    (known.empty() ? "(none)" : known) + ")");
+  }
+  void apply(StageState& s) const override {
+    Model& m = s.model;
+    auto where = p_.where("level");
+    if (!m.water.present())
+      throw Error(where,
+                  "water_level: the model has no water table; a geostatic action with water_level sets "
+                  "one first (the level moves, it does not appear)");
+    auto load = std::find_if(s.loads.begin(), s.loads.end(), [&](const LoadSpec& l) {
+      return l.name == p_.text("load") && l.kind == LoadSpec::Kind::gravity;
+    });
+    if (load == s.loads.end() || !(load->water_level > -std::numeric_limits<double>::infinity()))
+      throw Error(where, "water_level: load \"" + p_.text("load") +
+                             "\" is not the self-weight of a geostatic action with water_level");
+    for (const auto& d : m.domains)
+      if (d.law.material && !d.law.material->history_names().empty() &&
+          d.law.material->history_names().front() == "p_excess")
+        throw Error(where, "water_level: a domain with drainage = \"undrained\" keeps its excess pressure at "
+                           "its points, which a moving level does not update yet; use porous elements "
+                           "(quad8p4, tri6p3) where the level moves");
+    const double before = m.water.level, now = p_.real("level");
+    const LoadSpec old_weight = *load;
+    load->water_level = now;
+    s.load_jumps.emplace_back(old_weight, *load);
+    m.water.level = now;
+    const int f = m.dofs.field("p");
+    if (f < 0) return;
+    Water old = m.water;
+    old.level = before;
+    for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
+      if (const int d = m.dofs.dof(static_cast<int>(n), f);
+          d >= 0 && !m.constrained[static_cast<std::size_t>(d)])
+        m.u[d] += old.pressure(m.mesh.nodes[n].y()) - m.water.pressure(m.mesh.nodes[n].y());
+  }
+
+private:
+  Params p_;
+};
+
 /// reset_displacements: the displacements start again from zero (the stresses stay).
 class ResetDisplacements final : public StageAction {
 public:
@@ -438,6 +503,9 @@ void register_builtin_actions(Registry& r) {
   r.add(load_factory("gravity", "the self-weight of a cell set", AddLoad::gravity_schema(),
                      LoadSpec::Kind::gravity));
   r.add(factory<Remove>("remove", "an applied load stops acting", Remove::schema()));
+  r.add(factory<WaterLevel>("water_level",
+                            "the phreatic level moves; the excess pore pressure takes over the change",
+                            WaterLevel::schema()));
   r.add(factory<Displacement>("displacement", "a node set's displacement grows over the stage",
                               Displacement::schema()));
   r.add({"drain",
@@ -456,8 +524,9 @@ void register_builtin_actions(Registry& r) {
 
 const std::vector<std::string>& builtin_action_types() {
   static const std::vector<std::string> types{
-      "geostatic",    "deactivate",          "activate", "pressure", "load", "force", "gravity", "remove",
-      "displacement", "reset_displacements", "drain",    "seal"};
+      "geostatic", "deactivate", "activate",   "pressure",     "load",
+      "force",     "gravity",    "remove",     "displacement", "reset_displacements",
+      "drain",     "seal",       "water_level"};
   return types;
 }
 
