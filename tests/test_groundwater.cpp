@@ -876,4 +876,66 @@ TEST_CASE(
                     Catch::Contains("load = \"nothing\" is not an applied load"));
 }
 
+TEST_CASE(
+    "groundwater: the global recorder's U, p_max and p_mean against Terzaghi's series; refused without p",
+    "[groundwater]") {
+  // Terzaghi's column (40 cells) to T = 0.2 in 200 equal steps; the recorder's last values are read
+  // back through [[checks]] (whose own bounds are wide: the assertions below are the test).
+  // U = 1 - p_mean / p0 is the average degree of consolidation, p_mean = p0 (1 - U), and p_max is
+  // the base's pressure (the slowest point).
+  const double T = 0.2, duration = T * H * H / cv();
+  std::ostringstream more;
+  more.precision(17);
+  more
+      << "[[stages]]\nname = \"consolidate\"\ntype = \"consolidation\"\nduration = " << duration
+      << "\nsteps = 200\n[[stages.actions]]\ntype = \"drain\"\nnodes = \"soil.top\"\n"
+      << "[[output.history]]\nname = \"c\"\nkind = \"global\"\nquantities = [\"U\", \"p_max\", \"p_mean\"]\n";
+  for (const char* q : {"U", "p_max", "p_mean"})
+    more << "[[checks]]\nrecorder = \"c\"\nquantity = \"" << q << "\"\nexpected = 1.0\nrtol = 1e3\n";
+  auto a = build(column("plane_strain", 40, more.str()));
+  const RunSummary s = a->run();
+  REQUIRE(s.outcome.ok());
+  REQUIRE(s.checks.size() == 3);
+  CHECK(s.checks[0].value == Approx(terzaghi_U(T)).epsilon(0.01));
+  CHECK(s.checks[1].value == Approx(terzaghi_p(H, T)).epsilon(0.01));
+  CHECK(s.checks[2].value == Approx(p0() * (1.0 - terzaghi_U(T))).epsilon(0.01));
+  CHECK(s.checks[1].unit == "kPa");
+
+  // A model without porous elements has no excess pressure to record: one located line.
+  const std::string dry = R"([analysis]
+formulation = "plane_strain"
+[mesh]
+generator = "blocks"
+[[mesh.blocks]]
+name = "soil"
+x = [0.0, 1.0]
+y = [0.0, 1.0]
+[materials.soil]
+model = "linear_elastic"
+E = 1000.0
+nu = 0.3
+[[domains]]
+cells = "soil"
+element = "quad"
+material = "soil"
+[[constraints]]
+nodes = "bottom"
+ux = 0.0
+uy = 0.0
+[[stages]]
+name = "load"
+[[stages.actions]]
+type = "pressure"
+edges = "soil.top"
+p = 1.0
+[[output.history]]
+name = "c"
+kind = "global"
+quantities = ["time", "U"]
+)";
+  const std::string e = testing::build_error(dry, "dry.toml");
+  CHECK_THAT(e,
+             Catch::Contains("dry.toml:") && Catch::Contains("quantity \"U\" is the excess pore pressure"));
+}
+
 } // namespace test_groundwater

@@ -13,6 +13,35 @@ namespace stratum {
 
 namespace {
 
+/// The excess pore pressure of the model: the largest |p| at a node, and its mean over the active
+/// cells that carry p (each cell's mean of its p nodes times its volume, the sum of its points'
+/// weights; exact for p linear on triangles and bilinear on parallelograms in plane strain).
+std::pair<double, double> excess_pressure(const Model& m) {
+  const int f = m.dofs.field("p");
+  double largest = 0.0, integral = 0.0, volume = 0.0;
+  if (f < 0) return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  for (std::size_t n = 0; n + 1 < m.dofs.node_first.size(); ++n)
+    if (const int d = m.dofs.dof(static_cast<int>(n), f); d >= 0)
+      largest = std::max(largest, std::abs(m.u[d]));
+  std::vector<int> nodes;
+  Eigen::MatrixXd x;
+  Eigen::VectorXd w;
+  for (const auto& dm : m.domains)
+    for (int c : dm.cells) {
+      if (!m.is_active(c) || !dm.element) continue;
+      m.cell_nodes(c, nodes, x);
+      double sum = 0.0;
+      int count = 0;
+      for (int n : nodes)
+        if (const int d = m.dofs.dof(n, f); d >= 0) sum += m.u[d], ++count;
+      if (count == 0) continue;
+      dm.element->point_weights(m.element_data(c, x), w);
+      integral += sum / count * w.sum();
+      volume += w.sum();
+    }
+  return {largest, volume > 0.0 ? integral / volume : std::numeric_limits<double>::quiet_NaN()};
+}
+
 const std::vector<std::string>& allowed(const std::string& kind) { return recorder_quantities(kind); }
 
 /// The interface points in order along the interface, with s the arc length of the polyline
@@ -58,6 +87,13 @@ Recorder::Recorder(const RecorderSpec& spec, const Model& model)
     : name_(spec.name), kind_(spec.kind), set_(spec.set), quantities_(spec.quantities) {
   const std::string& ctx = spec.context;
   at_[0] = spec.at[0], at_[1] = spec.at[1];
+  if (kind_ == "global" && model.dofs.field("p") < 0)
+    for (std::size_t i = 0; i < quantities_.size(); ++i)
+      if (quantities_[i] == "p_max" || quantities_[i] == "p_mean" || quantities_[i] == "U")
+        throw Error(spec.where,
+                    ctx + " quantity \"" + quantities_[i] +
+                        "\" is the excess pore pressure of porous elements (quad8p4, tri6p3), and this "
+                        "model has none; allowed here: lambda, iterations, time");
   if (kind_ == "nodes") {
     const auto it = model.mesh.node_sets.find(set_);
     if (it == model.mesh.node_sets.end())
@@ -189,7 +225,13 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
         }
       }
   } else {
-    v = {lambda, static_cast<double>(iterations), time};
+    const auto [largest, mean] = excess_pressure(m);
+    // U of the stage: its start is the state of the previous sample (the end of the stage before).
+    if (stage != last_stage_) stage_start_mean_ = std::isfinite(last_mean_) ? last_mean_ : mean;
+    last_stage_ = stage, last_mean_ = mean;
+    const double U =
+        stage_start_mean_ != 0.0 ? 1.0 - mean / stage_start_mean_ : std::numeric_limits<double>::quiet_NaN();
+    v = {lambda, static_cast<double>(iterations), time, largest, mean, U};
   }
   for (const auto& q : quantities_) {
     const auto it = std::find(names.begin(), names.end(), q);

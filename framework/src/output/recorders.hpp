@@ -45,6 +45,10 @@ private:
   std::size_t domain_ = 0; ///< interface: index of the interface's domain in Model::domains
   double at_[2] = {0.0, 0.0};
   std::vector<RecorderRow> rows_;
+  /// global U: the stage of the last sample, the mean excess pressure then, and at the stage's start
+  int last_stage_ = -1;
+  double last_mean_ = std::numeric_limits<double>::quiet_NaN();
+  double stage_start_mean_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Evaluates the checks on the recorders' last rows (a recorder without rows fails its checks).

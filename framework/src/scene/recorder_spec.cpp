@@ -16,7 +16,7 @@ const std::vector<std::string>& recorder_quantities(const std::string& kind) {
   static const std::vector<std::string> node{"ux", "uy", "rx", "ry"};
   static const std::vector<std::string> point{"x",   "y",   "sxx", "syy", "szz",   "sxy",
                                               "exx", "eyy", "ezz", "gxy", "status"};
-  static const std::vector<std::string> global{"lambda", "iterations", "time"};
+  static const std::vector<std::string> global{"lambda", "iterations", "time", "p_max", "p_mean", "U"};
   static const std::vector<std::string> iface{"s",    "x",       "y",     "shear_traction", "normal_traction",
                                               "slip", "opening", "status"};
   if (kind == "point") return point;
@@ -93,6 +93,8 @@ RecorderSpec read_recorder(const toml::table& t, const std::string& ctx, const U
                                      "\" does not record; allowed: " + name_list(names));
       r.quantities.push_back(*v);
     }
+  } else if (r.kind == "global") {
+    r.quantities = {"lambda", "iterations", "time"}; // the excess pressure's, of porous models, when asked
   } else {
     r.quantities = names;
   }
@@ -110,7 +112,7 @@ std::string recorder_quantity_unit(const std::string& q) {
   if (q == "rx" || q == "ry") return "kN";
   if (q == "sxx" || q == "syy" || q == "szz" || q == "sxy" || q == "shear_traction" || q == "normal_traction")
     return "kPa";
-  if (q == "p" || q == "p_steady") return "kPa";
+  if (q == "p" || q == "p_steady" || q == "p_max" || q == "p_mean") return "kPa";
   return "-";
 }
 

@@ -15,7 +15,13 @@
 //                                 x, y (m, where it is), sxx, syy, szz, sxy (kPa, tension positive),
 //                                 exx, eyy, ezz, gxy (engineering shear), status (the model's
 //                                 point_status: its own regime number, -1 where it has none)
-//   kind = "global"               lambda, iterations (of the step), time (stage - 1 + lambda)
+//   kind = "global"               lambda, iterations (of the step), time (the analysis time: one
+//                                 unit per static stage, the physical time of consolidation
+//                                 stages); with porous elements p_max (the largest |p| at a node,
+//                                 kPa), p_mean (the excess pressure's mean over the porous cells,
+//                                 kPa) and U (the stage's degree of consolidation, 1 - p_mean /
+//                                 p_mean at the end of the stage before); by default lambda,
+//                                 iterations and time
 //   kind = "interface" set = "..." an interface ([[interfaces]] name, by default its edge set's):
 //                                 one row per interface point and step, ordered along it:
 //                                 s (m, arc length along the interface from its end nearest
