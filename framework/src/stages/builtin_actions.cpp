@@ -281,9 +281,9 @@ public:
                            "its points, which a moving level does not update yet; use porous elements "
                            "(quad8p4, tri6p3) where the level moves");
     const double before = m.water.level, now = p_.real("level");
-    const LoadSpec old_weight = *load;
+    s.load_jumps.emplace_back(*load, *load); // (before, after)
     load->water_level = now;
-    s.load_jumps.emplace_back(old_weight, *load);
+    s.load_jumps.back().second.water_level = now;
     m.water.level = now;
     const int f = m.dofs.field("p");
     if (f < 0) return;
