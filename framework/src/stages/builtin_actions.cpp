@@ -236,11 +236,10 @@ private:
 
 /// water_level: the phreatic level moves (horizontal, from this stage on). The self-weight load of
 /// the geostatic stage follows it (a cell weighs gamma above the level, the buoyant gamma_sat -
-/// gamma_w below it), at once from the stage's first step (StageState::load_jumps), and the
-/// excess pore pressure takes over the change of the steady pressure at that instant, so that the
-/// total pore pressure is continuous: lowered by dh, the water below keeps its pressure and shows
-/// it as an excess gamma_w dh, which drains in a consolidation stage (a prescribed p, a drained
-/// boundary, keeps its value).
+/// gamma_w below it) at once, from the stage's first step (StageState::load_jumps): the soil answers
+/// the change of buoyancy undrained, so that lowered by dh the water below the new level carries
+/// nearly gamma_w dh as an excess pressure at first (B gamma_w dh, B = (K_w/n) / (M + K_w/n)), which
+/// drains in a consolidation stage to the effective stress of the new level.
 class WaterLevel final : public StageAction {
 public:
   static Schema schema() {
@@ -278,21 +277,13 @@ public:
       if (d.law.material && !d.law.material->history_names().empty() &&
           d.law.material->history_names().front() == "p_excess")
         throw Error(where, "water_level: a domain with drainage = \"undrained\" keeps its excess pressure at "
-                           "its points, which a moving level does not update yet; use porous elements "
-                           "(quad8p4, tri6p3) where the level moves");
-    const double before = m.water.level, now = p_.real("level");
+                           "its points; a moving level is verified with porous elements only (quad8p4, "
+                           "tri6p3), use them where the level moves");
+    const double now = p_.real("level");
     s.load_jumps.emplace_back(*load, *load); // (before, after)
     load->water_level = now;
     s.load_jumps.back().second.water_level = now;
     m.water.level = now;
-    const int f = m.dofs.field("p");
-    if (f < 0) return;
-    Water old = m.water;
-    old.level = before;
-    for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
-      if (const int d = m.dofs.dof(static_cast<int>(n), f);
-          d >= 0 && !m.constrained[static_cast<std::size_t>(d)])
-        m.u[d] += old.pressure(m.mesh.nodes[n].y()) - m.water.pressure(m.mesh.nodes[n].y());
   }
 
 private:
