@@ -137,7 +137,7 @@ TEST_CASE("cli: --version and plugins listing", "[cli]") {
   CHECK(m.err.find("; did you mean 'linear_elastic'?") != std::string::npos);
 }
 
-TEST_CASE("cli: the short plugin list has one line per plugin; --all the full listing", "[cli]") {
+TEST_CASE("cli: the short plugin list has one line per plugin, --all the full listing", "[cli]") {
   const auto full = stratum("plugins --describe");
   REQUIRE(full.code == 0);
   CHECK(stratum("plugins --all").out == full.out);
@@ -219,7 +219,7 @@ TEST_CASE("cli: did you mean: misspelt keys, plugins and sets", "[cli]") {
   CHECK(r7.err.find("did you mean '--quiet'?") != std::string::npos);
 }
 
-TEST_CASE("cli: --quiet prints nothing on a good run; progress lines when stderr is not a terminal",
+TEST_CASE("cli: --quiet prints nothing on a good run, progress lines when stderr is not a terminal",
           "[cli]") {
   const auto path = write_scene("quiet.toml", good);
   const auto q = stratum("run " + path + " --quiet --out " + (scratch() / "quiet").string());
@@ -334,7 +334,7 @@ TEST_CASE("cli: bad references and usage errors", "[cli]") {
   expect_one_line_error(stratum("run"), "", "no scene file given");
 }
 
-TEST_CASE("cli: stratum point runs the examples and writes CSV; malformed point files fail in one line",
+TEST_CASE("cli: stratum point runs the examples and writes CSV, malformed point files fail in one line",
           "[cli]") {
   for (const std::string ex : {"elastic_paths", "mcc_undrained", "drained_triaxial_mcc"}) {
     const auto csv = (scratch() / (ex + ".csv")).string();

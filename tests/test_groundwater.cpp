@@ -795,7 +795,7 @@ TEST_CASE("groundwater: the clay pile scene loads undrained, consolidates and lo
   CHECK(s.load_settlement.back()[0] < 750.0);
 }
 
-TEST_CASE("groundwater: a water_level action lowers the table; the excess drains to the closed form",
+TEST_CASE("groundwater: a water_level action lowers the table, the excess drains to the closed form",
           "[groundwater]") {
   // A 10 m column (linear elastic skeleton, quad8p4), water table at its top; the table is lowered
   // to y = 6 in a consolidation stage of T = 5 with the top drained. Drained at the end,
@@ -876,7 +876,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "groundwater: the global recorder's U, p_max and p_mean against Terzaghi's series; refused without p",
+    "groundwater: the global recorder's U, p_max and p_mean against Terzaghi's series, refused without p",
     "[groundwater]") {
   // Terzaghi's column (40 cells) to T = 0.2 in 200 equal steps; the recorder's last values are read
   // back through [[checks]] (whose own bounds are wide: the assertions below are the test).

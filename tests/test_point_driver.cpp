@@ -98,7 +98,7 @@ TEST_CASE("point driver: malformed point files give located one-line errors", "[
                   "'plastic'; known: ") == 0);
 }
 
-TEST_CASE("point driver: every example in inputs/point runs; MCC examples reach M1 failure", "[point]") {
+TEST_CASE("point driver: every example in inputs/point runs, MCC examples reach M1 failure", "[point]") {
   int examples = 0;
   for (const auto& e :
        std::filesystem::directory_iterator(std::string(STRATUM_SOURCE_DIR) + "/inputs/point")) {
@@ -143,7 +143,7 @@ TEST_CASE("point driver: a state without stiffness is a failure, not rows of zer
   CHECK(confined.rows.size() == 21);
 }
 
-TEST_CASE("point driver: [material] from takes a set of an included shared file; keys beside it override",
+TEST_CASE("point driver: [material] from takes a set of an included shared file, keys beside it override",
           "[point][include]") {
   namespace fs = std::filesystem;
   const fs::path d = fs::temp_directory_path() / ("stratum_point_from_" + std::to_string(::getpid()));

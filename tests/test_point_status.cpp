@@ -124,7 +124,7 @@ TEST_CASE("point_status: von Mises, elastic below and 1 on the yield surface", "
   check_named(m, 1);
 }
 
-TEST_CASE("point_status: Mohr-Coulomb face, edge, tension cut-off and apex; Tresca",
+TEST_CASE("point_status: Mohr-Coulomb face, edge, tension cut-off and apex, Tresca",
           "[point_status][mohr_coulomb]") {
   namespace mc = stratum::mohr_coulomb;
   mc::Parameters p;

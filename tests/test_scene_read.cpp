@@ -75,7 +75,7 @@ TEST_CASE("scene::read gives the typed, located scene and creates nothing", "[sc
   CHECK(opened.size() == 3); // linear_elastic, quad, newton
 }
 
-TEST_CASE("scene::read finds text errors without building; set names are checked when the scene is built",
+TEST_CASE("scene::read finds text errors without building, set names are checked when the scene is built",
           "[scene][read]") {
   Read read;
   const std::string scene_text = stratum::testing::read_text(scene_file());

@@ -349,7 +349,7 @@ Eigen::VectorXd run_footing(Analysis& an, RunSummary& s) {
 }
 } // namespace
 
-TEST_CASE("Newton: order close to 2; modified Newton linear; same solution", "[solver]") {
+TEST_CASE("Newton: order close to 2, modified Newton linear, same solution", "[solver]") {
   RunSummary sn, sm, si;
   auto n = footing_to_70("newton", "");
   auto m = footing_to_70("modified_newton", "");
@@ -382,7 +382,7 @@ TEST_CASE("Newton: order close to 2; modified Newton linear; same solution", "[s
   if (si.outcome.ok()) CHECK((un - ui).norm() / un.norm() < 1e-8);
 }
 
-TEST_CASE("KINSOL strategies agree with the built-in Newton; failure is a status", "[solver]") {
+TEST_CASE("KINSOL strategies agree with the built-in Newton, failure is a status", "[solver]") {
   RunSummary sn;
   auto n = footing_to_70("newton", "");
   const Eigen::VectorXd un = run_footing(*n, sn);

@@ -119,7 +119,7 @@ TEST_CASE("the actions of a stage act as before they were objects", "[stages]") 
   CHECK(std::abs(b->model().u[2 * t + 1] + q * H / E) < 1e-6 * q * H / E);
 }
 
-TEST_CASE("mesh generators are a plugin kind; blocks and gmsh stay the scene's own", "[mesh]") {
+TEST_CASE("mesh generators are a plugin kind, blocks and gmsh stay the scene's own", "[mesh]") {
   // tests/scenes/stage_actions/mesh_tail.toml: each case appends its [mesh] table, whose lines
   // follow the file's last line n.
   const std::string tail_path = stratum::testing::scene_path("stage_actions/mesh_tail.toml");

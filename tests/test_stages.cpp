@@ -656,7 +656,7 @@ TEST_CASE("[output] pile_cells must name a cell set: located at check, not map::
                                         "known: "));
 }
 
-TEST_CASE("what a stage inherits: [analysis] steps cannot act beside [[stages]]; run-ending stages come last",
+TEST_CASE("what a stage inherits: [analysis] steps cannot act beside [[stages]], run-ending stages come last",
           "[stages]") {
   // Found on 997ba04: with [[stages]], [analysis] steps = 10 was silently ignored (each stage ran
   // its own default of 1 step) while max_cutbacks was inherited. The rule (README.md, "What a stage

@@ -614,7 +614,7 @@ TEST_CASE("cap_sandler: drained triaxial path, both integrators agree", "[cap]")
 }
 
 // ------------------------------------------------------------------------------------------
-TEST_CASE("cap_sandler: the loess set; F_CUT is the envelope's apex", "[cap]") {
+TEST_CASE("cap_sandler: the loess set, F_CUT is the envelope's apex", "[cap]") {
   const cs::Constants c = loess(0.0);
   CHECK(c.K() == Approx(15000.0).epsilon(1e-14));
   CHECK(c.G() == Approx(18000.0 / 2.6).epsilon(1e-14));

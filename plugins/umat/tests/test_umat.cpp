@@ -659,7 +659,7 @@ TEST_CASE("umat: the loess pile runs through all its stages with the soil as a U
   CHECK(most > 0.0);
 }
 
-TEST_CASE("umat: stratum check names the library line; stratum run ends a NaN run cleanly", "[umat][cli]") {
+TEST_CASE("umat: stratum check names the library line, stratum run ends a NaN run cleanly", "[umat][cli]") {
   auto run = [](const std::string& args, std::string& err) {
     const fs::path e = scratch() / "stderr.txt", o = scratch() / "stdout.txt";
     const std::string cmd = "cd " + scratch().string() + " && STRATUM_PLUGIN_PATH= " + STRATUM_EXE + " " +
