@@ -99,10 +99,19 @@ bool initial_forces(Model& m, const Assembler& assembler, TimedLinearSolver& ls,
 // Free DOFs: the stage starts in equilibrium with the forces the active cells carry and moves
 // linearly to the target load (this releases the forces of removed cells over the steps).
 // Fixed DOFs carry the target load, so that reactions are final forces.
-/// Sets the model's load_base and load_ref from f0 and the target load, lambda to 0.
-void set_stage_load(Model& m, const Eigen::VectorXd& f0, const Eigen::VectorXd& target) {
+/// Sets the model's load_base and load_ref from f0 and the target load, lambda to 0. A load that
+/// jumps (StageState::load_jumps: before, after) is in full from the first step on: its change goes
+/// into the base, not into the part that grows with the load factor.
+void set_stage_load(Model& m, const Eigen::VectorXd& f0, const Eigen::VectorXd& target,
+                    const std::vector<std::pair<LoadSpec, LoadSpec>>& jumps) {
   m.load_base = f0;
-  m.load_ref = target - f0;
+  for (const auto& [before, after] : jumps) {
+    add_load(m, after, m.load_base);
+    Eigen::VectorXd old = Eigen::VectorXd::Zero(m.u.size());
+    add_load(m, before, old);
+    m.load_base -= old;
+  }
+  m.load_ref = target - m.load_base;
   for (int d = 0; d < m.dofs.total(); ++d)
     if (m.dofs.eq[static_cast<std::size_t>(d)] < 0) m.load_base[d] = target[d], m.load_ref[d] = 0.0;
   m.lambda = 0.0;
@@ -268,16 +277,7 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   Eigen::VectorXd target = Eigen::VectorXd::Zero(m.u.size());
   for (const auto& l : loads) add_load(m, l, target);
   record_stage_loads(loads_before);
-  // A load that jumps (StageState::load_jumps) is in full from the first step on: its change goes
-  // into the stage's base load, not into the part that grows with the load factor.
-  Eigen::VectorXd base = f0;
-  for (const auto& [before, after] : actions.load_jumps) {
-    add_load(m, after, base);
-    Eigen::VectorXd old = Eigen::VectorXd::Zero(m.u.size());
-    add_load(m, before, old);
-    base -= old;
-  }
-  set_stage_load(m, base, target);
+  set_stage_load(m, f0, target, actions.load_jumps);
   StaticProblem problem(m, assembler, *ls, summary.times, st.consolidation ? st.duration : 0.0);
 
   // ---- the pile's quantities (output/pile_monitor.hpp)
