@@ -10,8 +10,11 @@
 namespace stratum::stage {
 
 /// geostatic, deactivate, activate, pressure, load, force, gravity, remove, displacement,
-/// reset_displacements.
+/// reset_displacements, and those of register_water_actions.
 void register_builtin_actions(Registry& registry);
+
+/// drain, seal, water_level (stages/water_actions.cpp).
+void register_water_actions(Registry& registry);
 
 /// Their `type` names in the order the documentation and the messages list them.
 [[nodiscard]] const std::vector<std::string>& builtin_action_types();

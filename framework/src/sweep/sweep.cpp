@@ -32,7 +32,7 @@ namespace {
 using namespace detail;
 using io::location;
 
-constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr double not_a_number = std::numeric_limits<double>::quiet_NaN();
 
 double thread_cpu_seconds() {
   timespec t{};
@@ -79,7 +79,7 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
   const Sample& smp = samples_.at(static_cast<std::size_t>(index));
   std::string status = "failed", reason;
   std::map<std::string, std::vector<double>> cols;
-  double steps = nan, cutbacks = nan, iterations = nan;
+  double steps = not_a_number, cutbacks = not_a_number, iterations = not_a_number;
   const fs::path sample_dir = fs::path(out_dir) / "samples" / std::to_string(index);
   try {
     const std::string text = scene_text(index);
@@ -168,7 +168,7 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
       break;
     }
     case Quantity::Kind::last:
-      row += "," + format_number(y.empty() ? nan : y.back());
+      row += "," + format_number(y.empty() ? not_a_number : y.back());
       break;
     case Quantity::Kind::steps:
       row += "," + format_number(steps);
