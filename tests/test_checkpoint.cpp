@@ -35,11 +35,14 @@ Checkpoint sample() {
   c.loads = {l};
   c.states = {{1.0, 2.0}, {3.0}};
   c.time = 1.0;
-  c.water_level = 6.5, c.gamma_w = 10.0;
+  c.water_level = PhreaticLevel{{0.0, 20.0}, {6.5, 4.5}}, c.gamma_w = 10.0;
   stage::LoadSpec w;
   w.name = "self_weight", w.kind = stage::LoadSpec::Kind::gravity, w.set = "soil", w.gamma = 18.0;
-  w.water_level = 6.5, w.gamma_below = 10.0;
+  w.water = PhreaticLevel{{0.0, 20.0}, {6.5, 4.5}}, w.gamma_below = 10.0, w.gamma_w = 10.0;
   c.loads.push_back(w);
+  stage::LoadSpec q;
+  q.name = "recharge", q.kind = stage::LoadSpec::Kind::inflow, q.set = "top", q.q = 2.5e-8;
+  c.loads.push_back(q);
   return c;
 }
 
@@ -92,16 +95,20 @@ TEST_CASE("checkpoint: what write_checkpoint writes reads back unchanged", "[che
   CHECK(r.active == c.active);
   CHECK(r.constrained == c.constrained);
   CHECK(r.states == c.states);
-  REQUIRE(r.loads.size() == 2);
+  REQUIRE(r.loads.size() == 3);
   CHECK(r.loads[0].name == "head");
   CHECK(r.loads[0].p == 5.0);
   CHECK(r.loads[0].top_of_cells == false);
   CHECK(r.time == 1.0);
-  // Class version 1: the water table and a buoyant self-weight.
-  CHECK(r.water_level == 6.5);
+  // Class version 2: a sloped water table, a buoyant self-weight under it and an inflow.
+  CHECK(r.water_level.x == std::vector<double>{0.0, 20.0});
+  CHECK(r.water_level.y == std::vector<double>{6.5, 4.5});
   CHECK(r.gamma_w == 10.0);
-  CHECK(r.loads[1].water_level == 6.5);
+  CHECK(r.loads[1].water.at(10.0) == 5.5);
   CHECK(r.loads[1].gamma_below == 10.0);
+  CHECK(r.loads[1].gamma_w == 10.0);
+  CHECK(r.loads[2].kind == stage::LoadSpec::Kind::inflow);
+  CHECK(r.loads[2].q == 2.5e-8);
 }
 
 TEST_CASE("checkpoint: the committed fuzz seeds, written before the bounded reader, still read",
@@ -116,8 +123,8 @@ TEST_CASE("checkpoint: the committed fuzz seeds, written before the bounded read
     const Checkpoint c = read(ss.str().substr(1));
     CHECK(c.u.size() == 24); // 12 nodes
     CHECK(c.stages_done == (name[5] == '1' ? 1 : 3));
-    CHECK(std::isinf(c.water_level)); // written before the water table (class version 0): dry
-    for (const auto& l : c.loads) CHECK(std::isinf(l.water_level));
+    CHECK(!c.water_level.present()); // written before the water table (class version 0): dry
+    for (const auto& l : c.loads) CHECK(!l.water.present());
   }
 }
 

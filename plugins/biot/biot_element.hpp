@@ -236,6 +236,20 @@ public:
       xp.row(static_cast<Eigen::Index>(q)) = table_[q].Nu.transpose() * *cell.x;
   }
 
+  /// The excess pore pressure (field 2, "p") at the points: N_p . p of the corners.
+  [[nodiscard]] bool point_field(const ElementData& cell, const Eigen::VectorXd& u, int field,
+                                 Eigen::VectorXd& values) const override {
+    check_cell(cell);
+    if (field != 2 || u.size() != local_size()) return false;
+    values.resize(static_cast<Eigen::Index>(table_.size()));
+    for (std::size_t q = 0; q < table_.size(); ++q) {
+      double p = 0.0;
+      for (int i = 0; i < pressure_nodes(); ++i) p += table_[q].Np(i) * u(p_index(i));
+      values(static_cast<Eigen::Index>(q)) = p;
+    }
+    return true;
+  }
+
   void point_weights(const ElementData& cell, Eigen::VectorXd& w) const override {
     check_cell(cell);
     w.resize(static_cast<Eigen::Index>(table_.size()));

@@ -129,6 +129,15 @@ public:
   /// Weight of each integration point in a cell average (for cell output), sums to 1.
   virtual void point_weights(const ElementData& cell, Eigen::VectorXd& w) const = 0;
 
+  /// The values of the cell's field `field` (an index into node_fields(...).fields) at its
+  /// integration points in point order, interpolated from the cell's unknowns u (local order);
+  /// false, with `values` untouched, when the element does not interpolate that field (the
+  /// default). The writers and recorders read a pore pressure at the points so.
+  [[nodiscard]] virtual bool point_field(const ElementData& /*cell*/, const Eigen::VectorXd& /*u*/,
+                                         int /*field*/, Eigen::VectorXd& /*values*/) const {
+    return false;
+  }
+
   /// True when, with this law, the tangent of compute() depends on the cell's geometry only
   /// (small strain and a linear material): the assembler then computes it once per stage and
   /// asks compute() for the force and the point states alone. The default (false) is always safe.

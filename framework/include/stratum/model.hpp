@@ -61,16 +61,64 @@ struct Domain {
   std::vector<int> cells;               ///< global cell indices
   std::vector<std::size_t> first_point; ///< per cell, index of its first point in `states`; size cells + 1
   StateStore states;
+  /// The pore water of a displacement domain: "drained", "undrained" (the material carries the
+  /// excess pore pressure as its first history component, "p_excess"), "undrained_total" (total-
+  /// stress parameters, no pore pressure computed) or "non_porous"; a porous element's domain is
+  /// "drained" (its element carries p).
+  std::string drainage = "drained";
 };
 
-/// The steady pore water of the model: hydrostatic below a horizontal phreatic level (set by a
-/// `geostatic` action with a `water_level`). The unknown `p` of porous elements is the excess over it.
+/// A phreatic level: horizontal (one point: its y) or a polyline through points of strictly
+/// increasing x, linear between them and horizontal beyond its ends (the reader requires the line
+/// to span the mesh); no point: none (dry).
+struct PhreaticLevel {
+  std::vector<double> x, y; ///< m; x is unused for a horizontal level
+
+  [[nodiscard]] static PhreaticLevel horizontal(double level) { return PhreaticLevel{{0.0}, {level}}; }
+  [[nodiscard]] bool present() const { return !y.empty(); }
+  [[nodiscard]] bool sloped() const {
+    for (std::size_t i = 1; i < y.size(); ++i)
+      if (y[i] != y[0]) return true;
+    return false;
+  }
+  /// The level's y above x; -inf when there is none.
+  [[nodiscard]] double at(double px) const {
+    if (y.empty()) return -std::numeric_limits<double>::infinity();
+    if (y.size() == 1 || !(px > x.front())) return y.front();
+    if (!(px < x.back())) return y.back();
+    const std::size_t i = segment(px);
+    return y[i] + (y[i + 1] - y[i]) * (px - x[i]) / (x[i + 1] - x[i]);
+  }
+  /// dy/dx of the level above x: its segment's slope, 0 beyond the ends and when horizontal.
+  [[nodiscard]] double slope(double px) const {
+    if (y.size() < 2 || !(px > x.front()) || !(px < x.back())) return 0.0;
+    const std::size_t i = segment(px);
+    return (y[i + 1] - y[i]) / (x[i + 1] - x[i]);
+  }
+  /// Checkpoints and loads keep it (framework/src/run/checkpoint.cpp).
+  template <class Ar> void serialize(Ar& ar, unsigned /*version*/) { ar& x& y; }
+
+private:
+  /// The segment [x[i], x[i+1]] holding px, x.front() < px < x.back().
+  [[nodiscard]] std::size_t segment(double px) const {
+    std::size_t i = 0;
+    while (i + 2 < x.size() && !(px < x[i + 1])) ++i;
+    return i;
+  }
+};
+
+/// The steady pore water of the model: hydrostatic below a phreatic level in every vertical
+/// (PhreaticLevel; set by a `geostatic` action, moved by a `water_level` one). The unknown `p` of
+/// porous elements is the excess over it.
 struct Water {
-  double level = -std::numeric_limits<double>::infinity(); ///< phreatic level y, m; -inf: dry
-  double gamma_w = 9.81;                                   ///< unit weight of water, kN/m3
-  [[nodiscard]] bool present() const { return level > -std::numeric_limits<double>::infinity(); }
-  /// The steady pore pressure at level y, compression positive (kPa).
-  [[nodiscard]] double pressure(double y) const { return y < level ? gamma_w * (level - y) : 0.0; }
+  PhreaticLevel level;   ///< none: dry
+  double gamma_w = 9.81; ///< unit weight of water, kN/m3
+  [[nodiscard]] bool present() const { return level.present(); }
+  /// The steady pore pressure at (x, y), compression positive (kPa).
+  [[nodiscard]] double pressure(double x, double y) const {
+    const double top = level.at(x);
+    return y < top ? gamma_w * (top - y) : 0.0;
+  }
 };
 
 struct Model {
@@ -85,6 +133,10 @@ struct Model {
   /// Prescribed displacement of the current stage: prescribed_base + lambda * prescribed (m).
   Eigen::VectorXd prescribed_base;
   Eigen::VectorXd prescribed;
+  /// Prescribed inflow of the current stage: the volume per unit time (m3 per time unit) entering
+  /// at each pore-pressure DOF (full size, empty or zero without one); a step of length dt adds dt
+  /// times it to the continuity equations (StaticProblem), a static stage (dt = 0) nothing.
+  Eigen::VectorXd inflow;
   Eigen::VectorXd u;         ///< full-size committed displacement (m)
   Eigen::VectorXd reactions; ///< full-size internal force at the last converged state (kN)
   double lambda = 0.0;       ///< committed load factor within the current stage

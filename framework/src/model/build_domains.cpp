@@ -88,6 +88,7 @@ void SceneModel::build_domains(const scene::Scene& sc) {
       dm.law.material = materials[d.material_index].get();
     }
     dm.cells = cs->second;
+    dm.drainage = d.drainage;
     if (d.drainage != "drained" && !dm.cells.empty()) {
       const Cell& first = model.mesh.cells[static_cast<std::size_t>(dm.cells.front())];
       for (const Field& f : elements.back()->node_fields(first.type, first.shape()).fields)

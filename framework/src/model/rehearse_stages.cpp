@@ -41,6 +41,8 @@ std::string describe(const LoadSpec& l) {
     return "force on node set '" + l.set + "'";
   case LoadSpec::Kind::gravity:
     return "gravity on cell set '" + l.set + "'";
+  case LoadSpec::Kind::inflow:
+    return "inflow through edge set '" + l.set + "'";
   }
   return {};
 }
@@ -60,12 +62,17 @@ std::pair<std::size_t, std::size_t> reach(const Model& m, const LoadSpec& l,
     return {static_cast<std::size_t>(n), cells.size()};
   }
   const std::vector<int> nodes = load_nodes(m, l);
-  std::size_t n = 0;
+  std::size_t n = 0, total = 0;
+  // An inflow acts at the nodes that carry a pore pressure (a Taylor-Hood cell's corners), the
+  // others at the displacements of every node.
+  const bool inflow = l.kind == LoadSpec::Kind::inflow;
+  const int field = inflow ? m.dofs.field("p") : field_uy;
   for (int node : nodes) {
-    const int d = m.dofs.dof(node, field_uy);
+    const int d = m.dofs.dof(node, field);
+    total += !inflow || d >= 0;
     n += d >= 0 && carried[static_cast<std::size_t>(d)];
   }
-  return {n, nodes.size()};
+  return {n, inflow ? std::max<std::size_t>(total, 1) : total};
 }
 
 /// Smallest root of a node's part (union-find with path halving).

@@ -44,6 +44,14 @@ std::pair<double, double> excess_pressure(const Model& m) {
 
 const std::vector<std::string>& allowed(const std::string& kind) { return recorder_quantities(kind); }
 
+/// The index of the field called `name` among an element's fields of a cell, -1 when none.
+int local_field(const Element& e, const Cell& c, const std::string& name) {
+  const auto fields = e.node_fields(c.type, c.shape()).fields;
+  for (std::size_t f = 0; f < fields.size(); ++f)
+    if (fields[f].name == name) return static_cast<int>(f);
+  return -1;
+}
+
 /// The interface points in order along the interface, with s the arc length of the polyline
 /// through them from the end nearest the first point in cell order (the set's first edge, or
 /// for node pairs its lowest node). The order is found by walking from that end to the nearest
@@ -82,6 +90,46 @@ std::vector<InterfacePoint> ordered_along(std::vector<InterfacePoint> pts) {
 }
 
 } // namespace
+
+void point_water(const Model& m, const Domain& dm, std::size_t ci, std::vector<PointWater>& out) {
+  const int c = dm.cells[ci];
+  const std::size_t first = dm.first_point[ci], count = dm.first_point[ci + 1] - first;
+  out.assign(count, PointWater{});
+  std::vector<int> nodes, dofs;
+  Eigen::MatrixXd x, xp;
+  m.cell_nodes(c, nodes, x);
+  const ElementData data = m.element_data(c, x);
+  Eigen::VectorXd excess = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(count));
+  if (dm.element) {
+    dm.element->point_coordinates(data, xp);
+    if (const int f = local_field(*dm.element, m.mesh.cells[static_cast<std::size_t>(c)], "p"); f >= 0) {
+      m.cell_dofs(dm, c, dofs);
+      Eigen::VectorXd ue(static_cast<Eigen::Index>(dofs.size()));
+      for (std::size_t i = 0; i < dofs.size(); ++i)
+        ue[static_cast<Eigen::Index>(i)] = dofs[i] >= 0 ? m.u[dofs[i]] : 0.0;
+      Eigen::VectorXd v;
+      if (dm.element->point_field(data, ue, f, v) && v.size() == excess.size()) excess = v;
+    }
+  }
+  const bool undrained = dm.drainage == "undrained", total_only = dm.drainage == "undrained_total";
+  const bool non_porous = dm.drainage == "non_porous";
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t q = 0; q < count; ++q) {
+    const auto slot = dm.states.committed(first + q);
+    PointWater& w = out[q];
+    const Eigen::Index r = static_cast<Eigen::Index>(q);
+    w.p_steady = non_porous || xp.rows() <= r ? 0.0 : m.water.pressure(xp(r, 0), xp(r, 1));
+    w.p_excess = undrained ? slot.history()[0] : (total_only ? nan : (non_porous ? 0.0 : excess[r]));
+    // The stored stress: effective (drained, porous elements), effective less the excess (an
+    // undrained domain's material), total (undrained_total: with the geostatic effective stress
+    // it started from; non-porous).
+    w.effective = slot.stress();
+    if (undrained) w.effective.head<3>().array() += w.p_excess;
+    w.total = w.effective;
+    w.total.head<3>().array() -= w.p_steady + (total_only ? 0.0 : w.p_excess);
+    if (total_only) w.effective.setConstant(nan);
+  }
+}
 
 Recorder::Recorder(const RecorderSpec& spec, const Model& model)
     : name_(spec.name), kind_(spec.kind), set_(spec.set), quantities_(spec.quantities) {
@@ -204,9 +252,12 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
     v = {u[0] / count, u[1] / count, f[0], f[1]};
   } else if (kind_ == "point") {
     double best = std::numeric_limits<double>::infinity();
-    v.assign(11, std::numeric_limits<double>::quiet_NaN());
+    v.assign(names.size(), std::numeric_limits<double>::quiet_NaN());
     std::vector<int> nodes;
     Eigen::MatrixXd x, xp;
+    const Domain* at_domain = nullptr;
+    std::size_t at_cell = 0;
+    Eigen::Index at_point = 0;
     for (const auto& dm : m.domains)
       for (std::size_t ci = 0; ci < dm.cells.size(); ++ci) {
         const int c = dm.cells[ci];
@@ -222,8 +273,24 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
           const double status =
               dm.law.material ? static_cast<double>(dm.law.material->point_status(s, slot.history())) : -1.0;
           v = {xp(q, 0), xp(q, 1), s[0], s[1], s[2], s[3], e[0], e[1], e[2], e[3], status};
+          at_domain = &dm, at_cell = ci, at_point = q;
         }
       }
+    // The pore water of the nearest point, when asked for any of it.
+    v.resize(names.size(), std::numeric_limits<double>::quiet_NaN());
+    const bool wants_water = std::any_of(quantities_.begin(), quantities_.end(), [&](const std::string& q) {
+      return std::find(names.begin(), names.end(), q) - names.begin() >=
+             static_cast<std::ptrdiff_t>(point_dry_quantities);
+    });
+    if (wants_water && at_domain) {
+      std::vector<PointWater> water;
+      point_water(m, *at_domain, at_cell, water);
+      const PointWater& w = water[static_cast<std::size_t>(at_point)];
+      const double p = w.p_steady + w.p_excess;
+      const std::vector<double> extra{p,          w.p_excess, w.effective[0], w.effective[1], w.effective[2],
+                                      w.total[0], w.total[1], w.total[2]};
+      std::copy(extra.begin(), extra.end(), v.begin() + static_cast<std::ptrdiff_t>(point_dry_quantities));
+    }
   } else {
     const auto [largest, mean] = excess_pressure(m);
     // U of the stage: its start is the state of the previous sample (the end of the stage before).

@@ -25,6 +25,7 @@ public:
   Recorder(const RecorderSpec& spec, const Model& model);
 
   [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] const std::string& kind() const { return kind_; }
   [[nodiscard]] const std::vector<std::string>& quantities() const { return quantities_; }
   [[nodiscard]] const std::vector<RecorderRow>& rows() const { return rows_; }
   /// Index of a quantity, or -1.
@@ -50,6 +51,21 @@ private:
   double last_mean_ = std::numeric_limits<double>::quiet_NaN();
   double stage_start_mean_ = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// The pore water at one integration point: the steady and the excess pore pressure (kPa,
+/// compression positive) and the effective and total stress (tension positive; total = effective -
+/// (p_steady + p_excess) m). NaN where the domain computes no pore pressure (drainage =
+/// "undrained_total": its stress is total, its effective stress and excess unknown).
+struct PointWater {
+  double p_steady = 0.0, p_excess = 0.0;
+  Vec6 effective = Vec6::Zero(), total = Vec6::Zero();
+};
+
+/// The pore water at the points of cell ci of a domain (point order) from the committed state:
+/// a porous element interpolates its unknown p (Element::point_field), an undrained domain keeps
+/// p in its history, a drained one has none; the steady pressure is Model::water's at the
+/// point; a non-porous domain has no water (its stress is total).
+void point_water(const Model& m, const Domain& dm, std::size_t ci, std::vector<PointWater>& out);
 
 /// Evaluates the checks on the recorders' last rows (a recorder without rows fails its checks).
 std::vector<CheckResult> evaluate_checks(const std::vector<Check>& checks,

@@ -1,6 +1,7 @@
 // One VTK output step: displacements, reactions, cell stresses, the integration-point cloud
 // with the materials' named history variables, and the interface fields.
 #include "output/interface_output.hpp"
+#include "output/recorders.hpp"
 #include "output/run_view.hpp"
 #include "output/vtk_output.hpp"
 #include "status_output.hpp"
@@ -41,7 +42,8 @@ void add_node_fields(const Model& m, OutputStep& out) {
   // The steady (hydrostatic) pore pressure below a phreatic level, at every node.
   if (m.water.present()) {
     OutputArray a{"p_steady", 1, std::vector<double>(m.mesh.nodes.size(), 0.0)};
-    for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n) a.values[n] = m.water.pressure(m.mesh.nodes[n].y());
+    for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
+      a.values[n] = m.water.pressure(m.mesh.nodes[n].x(), m.mesh.nodes[n].y());
     out.point_fields.push_back(std::move(a));
   }
 }
@@ -63,6 +65,13 @@ void history_fields(const Model& m, std::vector<OutputArray>& ip_history,
       history_index[d][f] = static_cast<int>(k);
     }
   }
+}
+
+/// A model with pore water anywhere: a phreatic level, a pore-pressure field or an undrained domain.
+bool has_pore_water(const Model& m) {
+  return m.water.present() || m.dofs.field("p") >= 0 ||
+         std::any_of(m.domains.begin(), m.domains.end(),
+                     [](const Domain& d) { return d.drainage == "undrained"; });
 }
 
 } // namespace
@@ -100,6 +109,11 @@ void write_step(VtkSeriesWriter& w, const RunView& run) {
   std::vector<OutputArray> ip_history;
   std::vector<std::vector<int>> history_index(m.domains.size()); // field -> history slot, per domain
   if (settings.ip_output) history_fields(m, ip_history, history_index);
+  // The pore water at the points, in a model that has any (output/recorders.hpp, PointWater).
+  const bool water = settings.ip_output && has_pore_water(m);
+  OutputArray ip_p{"pore_pressure", 1, {}}, ip_excess{"excess_pore_pressure", 1, {}},
+      ip_effective{"effective_stress", 6, {}, voigt}, ip_total{"total_stress", 6, {}, voigt};
+  std::vector<PointWater> point_w;
   std::size_t total_points = 0;
   for (const auto& dm : m.domains)
     for (std::size_t ci = 0; ci < dm.cells.size(); ++ci)
@@ -136,6 +150,17 @@ void write_step(VtkSeriesWriter& w, const RunView& run) {
           }
         }
       }
+      if (water) {
+        point_water(m, dm, ci, point_w);
+        for (const PointWater& pw : point_w) {
+          ip_p.values.push_back(pw.p_steady + pw.p_excess);
+          ip_excess.values.push_back(pw.p_excess);
+          for (int k = 0; k < 6; ++k) {
+            ip_effective.values.push_back(pw.effective[k]);
+            ip_total.values.push_back(pw.total[k]);
+          }
+        }
+      }
       for (int k = 0; k < 6; ++k) stress.values.push_back(avg[k]);
       set_id.values.push_back(dm.set_id);
       if (settings.ip_output) {
@@ -147,6 +172,8 @@ void write_step(VtkSeriesWriter& w, const RunView& run) {
   out.cell_fields = {std::move(stress), std::move(set_id)};
   if (settings.ip_output) out.ip_fields = {std::move(ip_stress), std::move(ip_strain), std::move(ip_plastic)};
   for (auto& f : ip_history) out.ip_fields.push_back(std::move(f));
+  if (water)
+    for (auto* f : {&ip_p, &ip_excess, &ip_effective, &ip_total}) out.ip_fields.push_back(std::move(*f));
   add_status_names(m, out, settings.ip_output); // "domain", "domains", "plastic_regimes_<domain>"
   if (settings.ip_output && !run.interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
   w.write(out);

@@ -15,8 +15,8 @@
 // Class versions of what a checkpoint holds (the header's format stays 2: Boost writes each class's
 // version into the archive, and a reader of version 1 reads version 0 archives as they were).
 // Version 1 (2026-11-29): the model's water table, and a gravity load's level and buoyant weight.
-BOOST_CLASS_VERSION(stratum::Checkpoint, 1)
-BOOST_CLASS_VERSION(stratum::LoadSpec, 1)
+BOOST_CLASS_VERSION(stratum::Checkpoint, 2)
+BOOST_CLASS_VERSION(stratum::LoadSpec, 2)
 
 #include <filesystem>
 #include <fstream>
@@ -177,10 +177,10 @@ Checkpoint read_checkpoint(std::istream& in, const std::string& path) {
   }
   for (const auto& l : c.loads)
     if (l.kind != stage::LoadSpec::Kind::pressure && l.kind != stage::LoadSpec::Kind::force &&
-        l.kind != stage::LoadSpec::Kind::gravity)
+        l.kind != stage::LoadSpec::Kind::gravity && l.kind != stage::LoadSpec::Kind::inflow)
       throw Error(path + ": damaged checkpoint: load '" + l.name + "' has kind " +
                   std::to_string(static_cast<int>(l.kind)) +
-                  ", not one of 0 (pressure), 1 (force), 2 (gravity)");
+                  ", not one of 0 (pressure), 1 (force), 2 (gravity), 3 (inflow)");
   return c;
 }
 

@@ -28,14 +28,21 @@ struct Checkpoint {
   std::vector<stage::LoadSpec> loads;
   std::vector<std::vector<double>> states; ///< committed state store of every domain
   double time = 0.0;                       ///< output time reached
-  /// Model::water (level -inf: dry); class version 1 on (docs/design.md: a checkpoint of version
-  /// 0, written before the water, reads as dry).
-  double water_level = -std::numeric_limits<double>::infinity(), gamma_w = 9.81;
+  /// Model::water (no level: dry); class version 1 on (docs/design.md: a checkpoint of version 0,
+  /// written before the water, reads as dry; version 1 holds a horizontal level as one number,
+  /// version 2 a PhreaticLevel).
+  PhreaticLevel water_level;
+  double gamma_w = 9.81;
 
   template <class Ar> void serialize(Ar& ar, unsigned version) {
     ar& fingerprint& part_names& part_digests& part_stages& stages_done& stage_name& u& reactions& active&
         constrained& loads& states& time;
-    if (version >= 1) ar& water_level& gamma_w;
+    if (version == 1) {
+      double level = -std::numeric_limits<double>::infinity();
+      ar& level& gamma_w;
+      if (level > -std::numeric_limits<double>::infinity()) water_level = PhreaticLevel::horizontal(level);
+    }
+    if (version >= 2) ar& water_level& gamma_w;
   }
 };
 

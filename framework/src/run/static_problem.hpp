@@ -41,6 +41,12 @@ public:
     r.resize(size());
     for (int d = 0; d < m_.dofs.total(); ++d)
       if (const int e = m_.dofs.eq[d]; e >= 0) r[e] = m_.load_base[d] + lambda * m_.load_ref[d] - fint_[d];
+    // A prescribed inflow adds the volume of the step (a static stage takes no time). The
+    // continuity rows count a volume with the sign of the elements' f_int, -(what the point
+    // gained): their residual is the volume gained less the volume that entered.
+    if (m_.clock.transient && m_.inflow.size() == fint_.size())
+      for (int d = 0; d < m_.dofs.total(); ++d)
+        if (const int e = m_.dofs.eq[d]; e >= 0 && m_.inflow[d] != 0.0) r[e] -= m_.clock.dtime * m_.inflow[d];
     if (!other_rows_.empty()) weigh(r, k);
     return {};
   }

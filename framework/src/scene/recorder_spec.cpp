@@ -14,8 +14,11 @@ using io::location;
 
 const std::vector<std::string>& recorder_quantities(const std::string& kind) {
   static const std::vector<std::string> node{"ux", "uy", "rx", "ry"};
-  static const std::vector<std::string> point{"x",   "y",   "sxx", "syy", "szz",   "sxy",
-                                              "exx", "eyy", "ezz", "gxy", "status"};
+  // A point's water quantities (p, p_excess, the effective and total normal stresses) follow
+  // its first 11, recorded only when asked (read_recorder).
+  static const std::vector<std::string> point{
+      "x",      "y", "sxx",      "syy",     "szz",     "sxy",     "exx",       "eyy",       "ezz",      "gxy",
+      "status", "p", "p_excess", "sxx_eff", "syy_eff", "szz_eff", "sxx_total", "syy_total", "szz_total"};
   static const std::vector<std::string> global{"lambda", "iterations", "time", "p_max", "p_mean", "U"};
   static const std::vector<std::string> iface{"s",    "x",       "y",     "shear_traction", "normal_traction",
                                               "slip", "opening", "status"};
@@ -95,6 +98,8 @@ RecorderSpec read_recorder(const toml::table& t, const std::string& ctx, const U
     }
   } else if (r.kind == "global") {
     r.quantities = {"lambda", "iterations", "time"}; // the excess pressure's, of porous models, when asked
+  } else if (r.kind == "point") {
+    r.quantities.assign(names.begin(), names.begin() + point_dry_quantities);
   } else {
     r.quantities = names;
   }
@@ -112,7 +117,8 @@ std::string recorder_quantity_unit(const std::string& q) {
   if (q == "rx" || q == "ry") return "kN";
   if (q == "sxx" || q == "syy" || q == "szz" || q == "sxy" || q == "shear_traction" || q == "normal_traction")
     return "kPa";
-  if (q == "p" || q == "p_steady" || q == "p_max" || q == "p_mean") return "kPa";
+  if (q.starts_with("sxx_") || q.starts_with("syy_") || q.starts_with("szz_")) return "kPa";
+  if (q == "p" || q == "p_steady" || q == "p_excess" || q == "p_max" || q == "p_mean") return "kPa";
   return "-";
 }
 

@@ -51,6 +51,9 @@ namespace stratum {
 
 /// The quantities a recorder of `kind` records (node, nodes, point, global, interface), in order.
 [[nodiscard]] const std::vector<std::string>& recorder_quantities(const std::string& kind);
+/// A point recorder records the first this many of its quantities unless told which (the rest,
+/// the pore water's, when asked).
+inline constexpr std::size_t point_dry_quantities = 11;
 
 /// The unit of a recorder quantity in kN, m, kPa ("m", "kN", "kPa" or "-"); Units::label spells it
 /// in a scene's units.

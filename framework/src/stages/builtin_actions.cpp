@@ -40,9 +40,10 @@ public:
         .at_least(0)
         .defaults_to(0.0);
     g.real("water_level", "m",
-           "phreatic level y: below it the pore water is hydrostatic, p = gamma_w (water_level - y), the "
-           "stress set is effective and the self-weight buoyant; absent: dry")
+           "phreatic level y (horizontal): below it the pore water is hydrostatic, p = gamma_w (water_level "
+           "- y), the stress set is effective and the self-weight buoyant; absent: dry (or water_line_x/_y)")
         .defaults_to_computed(0.0, "none (dry)");
+    declare_phreatic_line(g, "water_line");
     g.real("gamma_sat", "kN/m3", "unit weight below the water table")
         .at_least(0)
         .defaults_to_computed(0.0, "gamma");
@@ -56,28 +57,33 @@ public:
     state_.K0 = p.real("K0");
     state_.surface = p.real("surface");
     state_.surcharge = p.real("surcharge");
-    if (p.where("water_level").known()) state_.water_level = p.real("water_level");
+    state_.water = read_phreatic_level(p, "water_level", "water_line", "geostatic");
     state_.gamma_w = p.real("gamma_w");
     load_.kind = LoadSpec::Kind::gravity;
     load_.name = p.text("name"), load_.set = p.text("cells"), load_.gamma = state_.gamma;
     // Below the water table the skeleton weighs its buoyant unit weight: the steady pore pressure
-    // (hydrostatic, not an unknown) carries the rest.
-    load_.water_level = state_.water_level;
+    // (hydrostatic in each vertical, not an unknown) carries the rest, and under a sloped level
+    // pushes the skeleton along its steady flow (the seepage force).
+    load_.water = state_.water;
     load_.gamma_below = state_.gamma_sat - state_.gamma_w;
-    if (p.where("water_level").known() && load_.gamma_below < 0.0)
-      throw Error(p.where(p.where("gamma_sat").known() ? "gamma_sat" : "water_level"),
+    load_.gamma_w = state_.gamma_w;
+    if (state_.water.present() && load_.gamma_below < 0.0)
+      throw Error(p.where(p.where("gamma_sat").known()     ? "gamma_sat"
+                          : p.where("water_level").known() ? "water_level"
+                                                           : "water_line_y"),
                   "geostatic: gamma_sat = " + std::to_string(state_.gamma_sat) + " is below gamma_w = " +
                       std::to_string(state_.gamma_w) + "; a saturated soil weighs more than water");
   }
   void check(StageCheck& scene) override {
     scene.require_cell_set(p_, "cells");
     require_loaded(scene, p_, "cells", scene.mesh.cell_sets, "cell set");
+    require_line_spans_mesh(scene, p_, state_.water, "water_line");
     scene.add_load_name(load_.name);
     scene.reset_after = true;
   }
   void apply(StageState& s) const override {
     set_geostatic(s.model, s.model.mesh.cell_sets.at(load_.set), state_);
-    if (p_.where("water_level").known()) s.model.water = Water{state_.water_level, state_.gamma_w};
+    if (state_.water.present()) s.model.water = Water{state_.water, state_.gamma_w};
     s.loads.push_back(load_);
   }
 
@@ -254,6 +260,8 @@ public:
       spec_.set = p.text("cells");
       spec_.gamma = p.real("gamma");
       break;
+    case LoadSpec::Kind::inflow: // its own action (stages/water_actions.cpp)
+      break;
     }
   }
   void check(StageCheck& scene) override {
@@ -269,6 +277,8 @@ public:
     case LoadSpec::Kind::gravity:
       scene.require_cell_set(p_, "cells");
       require_loaded(scene, p_, "cells", scene.mesh.cell_sets, "cell set");
+      break;
+    case LoadSpec::Kind::inflow:
       break;
     }
     if (spec_.name.empty()) spec_.name = scene.default_load_name;
@@ -397,15 +407,15 @@ void register_builtin_actions(Registry& r) {
   r.add(factory<Remove>("remove", "an applied load stops acting", Remove::schema()));
   r.add(factory<Displacement>("displacement", "a node set's displacement grows over the stage",
                               Displacement::schema()));
-  register_water_actions(r); // stages/water_actions.cpp: drain, seal, water_level
+  register_water_actions(r); // stages/water_actions.cpp: drain, seal, water_level, inflow
   r.add(factory<ResetDisplacements>("reset_displacements", "displacements start again from zero", Schema{}));
 }
 
 const std::vector<std::string>& builtin_action_types() {
   static const std::vector<std::string> types{
-      "geostatic", "deactivate", "activate",   "pressure",     "load",
-      "force",     "gravity",    "remove",     "displacement", "reset_displacements",
-      "drain",     "seal",       "water_level"};
+      "geostatic", "deactivate", "activate",    "pressure",     "load",
+      "force",     "gravity",    "remove",      "displacement", "reset_displacements",
+      "drain",     "seal",       "water_level", "inflow"};
   return types;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <set>
 
 namespace stratum {
@@ -96,7 +97,12 @@ void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f) {
       for (int c : dm.cells) {
         if (!model.is_active(c) || !in_set.count(c)) continue;
         model.cell_nodes(c, nodes, x);
-        b[field_uy] = x.col(1).mean() < spec.water_level ? -spec.gamma_below : -spec.gamma;
+        // Below the level (at the cell's centroid) the skeleton is buoyant; the steady pore
+        // pressure gamma_w (level(x) - y) of each vertical also pushes it along the level's fall.
+        const double xc = x.col(0).mean();
+        const bool wet = x.col(1).mean() < spec.water.at(xc);
+        b[field_ux] = wet ? -spec.gamma_w * spec.water.slope(xc) : 0.0;
+        b[field_uy] = wet ? -spec.gamma_below : -spec.gamma;
         dm.element->body_force(model.element_data(c, x), b, fe);
         model.cell_dofs(dm, c, dofs);
         for (std::size_t i = 0; i < dofs.size(); ++i)
@@ -104,7 +110,46 @@ void add_load(const Model& model, const LoadSpec& spec, Eigen::VectorXd& f) {
       }
     break;
   }
+  case LoadSpec::Kind::inflow: // no force: add_inflow
+    break;
   }
+}
+
+void add_inflow(const Model& model, const LoadSpec& spec, Eigen::VectorXd& rate) {
+  if (spec.kind != LoadSpec::Kind::inflow) return;
+  const int f = model.dofs.field("p");
+  const bool axi = model.formulation == Formulation::axisymmetric;
+  // Three Gauss points along each edge: the edge's geometry is quadratic through its midside
+  // node, the pressure linear between its corners (Taylor-Hood), or quadratic where the midside
+  // node carries one too.
+  constexpr double g = 0.7745966692414834, w[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  constexpr double s3[3] = {-g, 0.0, g};
+  bool any = false;
+  for (const Edge& e : model.mesh.edge_sets.at(spec.set)) {
+    const int da = f >= 0 ? model.dofs.dof(e.a, f) : -1, db = f >= 0 ? model.dofs.dof(e.b, f) : -1;
+    const int dm = f >= 0 && e.mid >= 0 ? model.dofs.dof(e.mid, f) : -1;
+    if (da < 0 && db < 0 && dm < 0) continue;
+    any = true;
+    const Eigen::Vector2d xa = model.mesh.nodes[static_cast<std::size_t>(e.a)];
+    const Eigen::Vector2d xb = model.mesh.nodes[static_cast<std::size_t>(e.b)];
+    const Eigen::Vector2d xm =
+        e.mid >= 0 ? model.mesh.nodes[static_cast<std::size_t>(e.mid)] : 0.5 * (xa + xb);
+    for (int k = 0; k < 3; ++k) {
+      const double t = s3[k];
+      const Eigen::Vector2d x = 0.5 * t * (t - 1.0) * xa + 0.5 * t * (t + 1.0) * xb + (1.0 - t * t) * xm;
+      const Eigen::Vector2d dx = (t - 0.5) * xa + (t + 0.5) * xb - 2.0 * t * xm;
+      const double ds = w[k] * dx.norm() * (axi ? 2.0 * std::numbers::pi * x.x() : 1.0);
+      const double na = dm >= 0 ? 0.5 * t * (t - 1.0) : 0.5 * (1.0 - t);
+      const double nb = dm >= 0 ? 0.5 * t * (t + 1.0) : 0.5 * (1.0 + t);
+      if (da >= 0) rate[da] += spec.q * na * ds;
+      if (db >= 0) rate[db] += spec.q * nb * ds;
+      if (dm >= 0) rate[dm] += spec.q * (1.0 - t * t) * ds;
+    }
+  }
+  if (!any)
+    throw Error(
+        "inflow '" + spec.name + "': no node of edge set '" + spec.set +
+        "' carries a pore pressure p (the set must bound cells of a porous element: quad8p4, tri6p3)");
 }
 
 } // namespace stratum

@@ -101,7 +101,7 @@ void set_geostatic(Model& model, const std::vector<int>& cells, const AtRest& st
   for (int c : cells)
     if (model.is_active(c)) active.push_back(c);
   for_points(model, active, [&](const Domain& dm, PointSlot<double>& slot, const Eigen::Vector2d& x) {
-    const double sv = state.vertical_effective(x.y());
+    const double sv = state.vertical_effective(x.x(), x.y());
     Vec6 s = Vec6::Zero();
     s[voigt::xx] = K0 * sv;
     s[voigt::yy] = sv;
@@ -128,7 +128,7 @@ void set_geostatic(Model& model, const std::vector<int>& cells, const AtRest& st
     lateral[static_cast<std::size_t>(c)] = K0 * nx2 + ny2;
   }
   set_interface_compression(model, interfaces, [&](int c, const Eigen::Vector2d& x) {
-    return -state.vertical_effective(x.y()) * lateral[static_cast<std::size_t>(c)];
+    return -state.vertical_effective(x.x(), x.y()) * lateral[static_cast<std::size_t>(c)];
   });
 }
 

@@ -43,29 +43,31 @@ struct Stage {
 };
 
 /// The at-rest state of a layer: a surcharge on the surface, the unit weight above the water table
-/// and the saturated one below it, hydrostatic pore water below a horizontal phreatic level.
+/// and the saturated one below it, pore water hydrostatic in every vertical below a phreatic level
+/// (horizontal or a polyline).
 struct AtRest {
   double gamma = 0.0;     ///< unit weight above the water table (everywhere without one), kN/m3
   double gamma_sat = 0.0; ///< unit weight below the water table, kN/m3
   double K0 = 1.0;
   double surface = 0.0;   ///< ground level y, m
   double surcharge = 0.0; ///< vertical stress on the surface, kPa (compression positive)
-  double water_level = -std::numeric_limits<double>::infinity(); ///< phreatic level y, m
-  double gamma_w = 9.81;                                         ///< unit weight of water, kN/m3
-  /// The steady (hydrostatic) pore pressure at level y, compression positive: gamma_w (level - y) below.
-  [[nodiscard]] double pore_pressure(double y) const {
-    return y < water_level ? gamma_w * (water_level - y) : 0.0;
+  PhreaticLevel water;    ///< none: dry
+  double gamma_w = 9.81;  ///< unit weight of water, kN/m3
+  /// The steady pore pressure at (x, y), compression positive: gamma_w (level(x) - y) below the level.
+  [[nodiscard]] double pore_pressure(double x, double y) const {
+    return Water{water, gamma_w}.pressure(x, y);
   }
-  /// The vertical effective stress at level y (tension positive; 0 above the surface): the total
-  /// weight of the soil (and of water standing above the surface) above y, plus the surcharge,
-  /// less the pore pressure.
-  [[nodiscard]] double vertical_effective(double y) const {
+  /// The vertical effective stress at (x, y) (tension positive; 0 above the surface): the total
+  /// weight of the soil (and of water standing above the surface) above it in its vertical, plus
+  /// the surcharge, less the pore pressure.
+  [[nodiscard]] double vertical_effective(double x, double y) const {
     if (!(y < surface)) return 0.0;
-    const double wet_top = std::min(surface, water_level);
+    const double level = water.at(x);
+    const double wet_top = std::min(surface, level);
     const double below = std::max(wet_top - y, 0.0); // thickness under the water table
     const double above = (surface - y) - below;
-    const double standing = water_level > surface ? gamma_w * (water_level - surface) : 0.0;
-    return -(surcharge + standing + gamma * above + gamma_sat * below) + pore_pressure(y);
+    const double standing = level > surface ? gamma_w * (level - surface) : 0.0;
+    return -(surcharge + standing + gamma * above + gamma_sat * below) + pore_pressure(x, y);
   }
 };
 

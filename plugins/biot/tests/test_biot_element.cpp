@@ -226,6 +226,29 @@ TEST_CASE("biot: Darcy flow of a linear pressure through a rectangle", "[biot]")
   }
 }
 
+TEST_CASE("biot: the pressure at the integration points interpolates the corners exactly", "[biot]") {
+  // p = 3 + 2 x - 5 y at the corners of straight-sided cells (midside nodes at the middles): the
+  // pressure interpolation reproduces it at every point (Element::point_field), field 2 only.
+  Eigen::MatrixXd Q(8, 2), T(6, 2);
+  Q << 1.0, 0.0, 2.5, 0.2, 2.2, 1.4, 0.8, 1.0, 1.75, 0.1, 2.35, 0.8, 1.5, 1.2, 0.9, 0.5;
+  T << 1.0, 0.0, 2.0, 0.4, 1.2, 1.1, 1.5, 0.2, 1.6, 0.75, 1.1, 0.55;
+  for (const CellType type : {CellType::quadrilateral, CellType::triangle}) {
+    const BiotElement el(options(type, Formulation::axisymmetric));
+    const Eigen::MatrixXd& X = type == CellType::quadrilateral ? Q : T;
+    const ElementData cell = cell_of(X, type, false, 0.0);
+    Eigen::VectorXd u = Eigen::VectorXd::Constant(el.local_size(), 0.123); // displacements: anything
+    for (int i = 0; i < el.pressure_nodes(); ++i) u(el.p_index(i)) = 3.0 + 2.0 * X(i, 0) - 5.0 * X(i, 1);
+    Eigen::VectorXd v;
+    Eigen::MatrixXd xp;
+    REQUIRE(el.point_field(cell, u, 2, v));
+    el.point_coordinates(cell, xp);
+    REQUIRE(v.size() == xp.rows());
+    for (Eigen::Index q = 0; q < v.size(); ++q)
+      CHECK(v(q) == Approx(3.0 + 2.0 * xp(q, 0) - 5.0 * xp(q, 1)).epsilon(1e-13));
+    CHECK_FALSE(el.point_field(cell, u, 0, v)); // a displacement is not interpolated at the points
+  }
+}
+
 TEST_CASE("biot: a cell of the wrong shape is refused with the pair it needs", "[biot]") {
   const BiotElement quad(options(CellType::quadrilateral, Formulation::plane_strain));
   CHECK_THROWS_WITH(quad.check_shape(0x0Fu), Catch::Contains("8-node quadrilateral"));
