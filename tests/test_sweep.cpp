@@ -251,6 +251,68 @@ TEST_CASE("elastic pile samples: settlement proportional to the load and to 1 / 
   CHECK(!std::filesystem::exists(out)); // no per-sample output unless asked for
 }
 
+TEST_CASE(
+    "a study reads recorder quantities of a non-pile scene: an elastic footing's reaction scales with E",
+    "[sweep]") {
+  // tests/scenes/sweep/elastic_footing.toml: a footing pushed 10 mm into a linear elastic layer
+  // in 4 steps. Linear: the reaction at any settlement is proportional to E and to the
+  // settlement, so R(5 mm) = R(10 mm) / 2 and R / E is the same in every sample.
+  const Env env;
+  const std::string base = src + "/tests/scenes/sweep/elastic_footing.toml";
+  const auto study = [&](const std::string& quantities) {
+    return Study::from_string("[study]\nscene = \"" + base +
+                                  "\"\ndesign = \"grid\"\n[[parameters]]\nname = \"E\"\npath = "
+                                  "\"materials.soil.E\"\nvalues = [1.0e4, 2.0e4, 4.0e4]\n" +
+                                  quantities,
+                              "test_study.toml");
+  };
+  const Study st =
+      study("[[quantities]]\nname = \"R5\"\ntype = \"curve\"\nx = \"footing.uy\"\ny = \"footing.ry\"\n"
+            "at = -0.005\n[[quantities]]\nname = \"Rmin\"\ntype = \"min\"\ny = \"footing.ry\"\n"
+            "[[quantities]]\nname = \"Rmax\"\ntype = \"max\"\ny = \"footing.ry\"\n"
+            "[[quantities]]\nname = \"Rpush\"\ntype = \"last\"\ny = \"footing.ry\"\nstage = \"push\"\n"
+            "[[quantities]]\nname = \"t\"\ntype = \"last\"\ny = \"run.time\"\n"
+            "[[quantities]]\nname = \"R_at_half\"\ntype = \"curve\"\nx = \"run.lambda\"\n"
+            "y = \"run.time\"\nat = 0.5\n");
+  CHECK(st.header() == "index,E,R5,Rmin,Rmax,Rpush,t,R_at_half,status,reason");
+  const std::string out = (std::filesystem::temp_directory_path() / "stratum_sweep_footing").string();
+  std::vector<std::vector<double>> v;
+  for (int i = 0; i < 3; ++i) {
+    const SampleResult r = st.run(i, out);
+    INFO(r.row);
+    REQUIRE(r.status == "converged");
+    std::vector<double> row;
+    for (const auto& c : cells(r.row))
+      row.push_back(c.empty() || !std::isdigit(static_cast<unsigned char>(c.back())) ? 0.0 : std::stod(c));
+    v.push_back(row);
+  }
+  const double per_E = v[0][2] / v[0][1];
+  CHECK(per_E < 0.0); // the support pushes the footing's nodes down
+  for (const auto& row : v) {
+    CHECK(row[2] / row[1] == Approx(per_E).epsilon(1e-9)); // R5 / E
+    CHECK(row[3] == Approx(2.0 * row[2]).epsilon(1e-9));   // the least (most negative): the end, 10 mm
+    CHECK(row[4] == 0.0);                                  // the largest: the start
+    CHECK(row[5] == row[3]);                               // the stage's last row is the run's
+    CHECK(row[6] == 1.0);                                  // one static stage: time 1
+    CHECK(row[7] == 0.5);                                  // time at load factor 0.5
+  }
+  const auto refused = [&](const std::string& quantities, const std::string& what) {
+    INFO(what);
+    REQUIRE_THROWS_WITH(study(quantities), Catch::Matchers::Contains(what));
+  };
+  refused(
+      "[[quantities]]\nname = \"R\"\ntype = \"last\"\ny = \"footing.rz\"\n",
+      "test_study.toml:11:5 [[quantities]] 1 y = \"footing.rz\" is not allowed; allowed: load, settlement, "
+      "footing.stage, footing.step, footing.lambda, footing.uy, footing.ry, run.stage");
+  refused("[[quantities]]\nname = \"R\"\ntype = \"last\"\ny = \"footing.ry\"\nstage = \"pull\"\n",
+          "stage = \"pull\" is not a stage of the base scene; its stages: push");
+  refused(
+      "[[quantities]]\nname = \"R\"\ntype = \"curve\"\nx = \"settlement\"\ny = \"footing.ry\"\nat = 1.0\n",
+      "must both be recorder columns or both the pile curve's");
+  refused("[[quantities]]\nname = \"R\"\ntype = \"last\"\ny = \"load\"\nstage = \"push\"\n",
+          "stage acts only on recorder columns");
+}
+
 TEST_CASE("a point-file study: drained triaxial q = E eps_axial, and a failing sample is a row", "[sweep]") {
   const Env env;
   const Study st = Study::from_string(

@@ -102,6 +102,16 @@ struct RunSummary {
   std::vector<std::array<double, 8>> settlement_components;
 };
 
+/// What one [[output.history]] recorder took during a run: its columns (stage, step, lambda, then
+/// its quantities, as its CSV) and a row per recorded step (an interface recorder: per step and
+/// point).
+struct RecordedTable {
+  std::string name;
+  std::string kind; ///< node, nodes, point, global, interface
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+};
+
 /// Registers the framework's own stage actions and mesh generators, as an Analysis does before
 /// it reads a scene (`stratum plugins` lists them with the plugins' factories).
 void register_builtin_factories(Registry& registry);
@@ -131,6 +141,8 @@ public:
   /// The scene's [units] (kN, m when it declares none): every value the scene writes and every
   /// result is in them (stratum/units.hpp).
   [[nodiscard]] const Units& units() const;
+  /// The recorders' tables so far (after run(): the whole run), in the scene's order.
+  [[nodiscard]] std::vector<RecordedTable> recorded() const;
 
   struct Impl;
 

@@ -46,4 +46,21 @@ std::string Analysis::title() const { return impl_->sm.title; }
 std::vector<std::string> Analysis::warnings() const { return impl_->sm.warnings; }
 const Units& Analysis::units() const { return impl_->sm.units; }
 
+std::vector<RecordedTable> Analysis::recorded() const {
+  std::vector<RecordedTable> tables;
+  for (const Recorder& r : impl_->recorders) {
+    RecordedTable t{r.name(), r.kind(), {"stage", "step", "lambda"}, {}};
+    for (const auto& q : r.quantities())
+      if (q != "lambda") t.columns.push_back(q); // a global `lambda` is the row's own column
+    for (const RecorderRow& row : r.rows()) {
+      std::vector<double> v{static_cast<double>(row.stage), static_cast<double>(row.step), row.lambda};
+      for (std::size_t i = 0; i < row.values.size() && i < r.quantities().size(); ++i)
+        if (r.quantities()[i] != "lambda") v.push_back(row.values[i]);
+      t.rows.push_back(std::move(v));
+    }
+    tables.push_back(std::move(t));
+  }
+  return tables;
+}
+
 } // namespace stratum

@@ -125,6 +125,11 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
         cols["load"].push_back(r[0]);
         cols["settlement"].push_back(r[1]);
       }
+      for (const RecordedTable& t : analysis->recorded())
+        for (std::size_t c = 0; c < t.columns.size(); ++c) {
+          auto& v = cols[t.name + "." + t.columns[c]];
+          for (const auto& row : t.rows) v.push_back(c < row.size() ? row[c] : not_a_number);
+        }
       steps = s.steps_done;
       cutbacks = s.cutbacks;
       iterations = 0.0;
@@ -158,18 +163,38 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
   if (design_ == Design::one_at_a_time) row += "," + smp.varied;
   for (double v : smp.values) row += "," + format_number(v);
   for (const auto& q : quantities_) {
-    const auto& y = cols[q.y];
+    // The rows the quantity reads: all, or those of its stage (by the stage column of y's recorder).
+    const auto rows_of = [&](const std::string& column) {
+      std::vector<double> v = cols[column];
+      if (q.stage <= 0) return v;
+      const auto& stage = cols[column.substr(0, column.find('.')) + ".stage"];
+      std::vector<double> kept;
+      for (std::size_t k = 0; k < v.size() && k < stage.size(); ++k)
+        if (stage[k] == q.stage) kept.push_back(v[k]);
+      return kept;
+    };
+    const std::vector<double> y = rows_of(q.y);
     switch (q.kind) {
     case Quantity::Kind::curve: {
-      const auto& x = cols[q.x];
-      std::vector<std::array<double, 2>> xy(x.size());
-      for (std::size_t k = 0; k < x.size(); ++k) xy[k] = {x[k], y[k]};
+      const std::vector<double> x = rows_of(q.x);
+      // Recorders sample every accepted step: two of them have as many rows. A curve of columns
+      // of unequal length (the pile curve against a recorder) has none.
+      std::vector<std::array<double, 2>> xy(x.size() == y.size() ? x.size() : 0);
+      for (std::size_t k = 0; k < xy.size(); ++k) xy[k] = {x[k], y[k]};
       for (double a : q.at) row += "," + format_number(curve_at(xy, a));
       break;
     }
     case Quantity::Kind::last:
       row += "," + format_number(y.empty() ? not_a_number : y.back());
       break;
+    case Quantity::Kind::max:
+    case Quantity::Kind::min: {
+      double v = not_a_number;
+      for (double e : y)
+        if (std::isfinite(e) && !(q.kind == Quantity::Kind::max ? v >= e : v <= e)) v = e;
+      row += "," + format_number(v);
+      break;
+    }
     case Quantity::Kind::steps:
       row += "," + format_number(steps);
       break;

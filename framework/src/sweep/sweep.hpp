@@ -40,10 +40,13 @@ struct Parameter {
 /// What is read from each run. Columns: one per abscissa of `at` (name, or name@at when `at`
 /// is a list), one for the other kinds.
 struct Quantity {
-  enum class Kind { curve, last, steps, cutbacks, iterations };
+  enum class Kind { curve, last, max, min, steps, cutbacks, iterations };
   std::string name;
   Kind kind = Kind::curve;
-  std::string x, y;       ///< curve columns ("load", "settlement"; point files: their CSV columns)
+  /// curve columns: "load", "settlement" (the pile curve), "<recorder>.<column>" (a recorder of
+  /// the base scene: stage, step, lambda or one of its quantities); point files: their CSV columns
+  std::string x, y;
+  int stage = 0;          ///< > 0: only the rows of this stage (1-based; recorder columns only)
   std::vector<double> at; ///< abscissae for kind curve
   bool list = false;      ///< `at` was written as an array: one column per value, named name@value
   [[nodiscard]] std::vector<std::string> columns() const;

@@ -3,6 +3,7 @@
 #include "files.hpp"
 #include "sweep/sweep.hpp"
 
+#include "scene/recorder_spec.hpp"
 #include "scene/toml_check.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/point_driver.hpp"
@@ -288,28 +289,79 @@ Parameter read_parameter(const toml::table& t, std::size_t i, const StudySetting
   return p;
 }
 
+/// What a quantity of a scene study may read: the pile curve's columns, and "<recorder>.<column>"
+/// for every recorder of the base scene but an interface's (its rows are points, not steps),
+/// with the base scene's stage names.
+struct StudyColumns {
+  std::vector<std::string> allowed;
+  std::vector<std::string> stages;
+};
+
+StudyColumns scene_study_columns(const toml::table& base) {
+  StudyColumns c;
+  c.allowed = scene_columns;
+  if (const toml::table* out = table_of(base, "output"))
+    for (const toml::table* h : tables_of(*out, "history")) {
+      const RecorderSpec r = read_recorder(*h, "[[output.history]]", Units{});
+      if (r.kind == "interface") continue;
+      for (const char* k : {"stage", "step", "lambda"}) c.allowed.push_back(r.name + "." + k);
+      for (const auto& q : r.quantities)
+        if (q != "lambda") c.allowed.push_back(r.name + "." + q);
+    }
+  for (const toml::table* st : tables_of(base, "stages"))
+    if (const auto* n = st->get("name"); n && n->is_string()) c.stages.push_back(n->as_string()->get());
+  return c;
+}
+
 /// The [[quantities]] entry i; its columns go into `names`.
-Quantity read_quantity(const toml::table& t, std::size_t i, bool point,
-                       const std::vector<std::string>& allowed_xy, std::set<std::string>& names) {
+Quantity read_quantity(const toml::table& t, std::size_t i, bool point, const StudyColumns& columns,
+                       std::set<std::string>& names) {
   const std::string ctx = context_of("quantities", static_cast<int>(i));
-  only_keys(t, {"name", "type", "x", "y", "at"}, ctx);
+  only_keys(t, {"name", "type", "x", "y", "at", "stage"}, ctx);
+  const auto& allowed_xy = columns.allowed;
   Quantity q;
   q.name = text(t, "name", ctx);
   const std::vector<std::string> kinds =
-      point ? std::vector<std::string>{"curve", "last", "steps"}
-            : std::vector<std::string>{"curve", "last", "steps", "cutbacks", "iterations"};
+      point ? std::vector<std::string>{"curve", "last", "max", "min", "steps"}
+            : std::vector<std::string>{"curve", "last", "max", "min", "steps", "cutbacks", "iterations"};
   const std::string type = text(t, "type", ctx, kinds);
   q.kind = type == "curve"      ? Quantity::Kind::curve
            : type == "last"     ? Quantity::Kind::last
+           : type == "max"      ? Quantity::Kind::max
+           : type == "min"      ? Quantity::Kind::min
            : type == "steps"    ? Quantity::Kind::steps
            : type == "cutbacks" ? Quantity::Kind::cutbacks
                                 : Quantity::Kind::iterations;
-  if (q.kind == Quantity::Kind::curve || q.kind == Quantity::Kind::last) {
+  const bool reads_y = q.kind == Quantity::Kind::curve || q.kind == Quantity::Kind::last ||
+                       q.kind == Quantity::Kind::max || q.kind == Quantity::Kind::min;
+  const auto recorder_column = [](const std::string& c) { return c.find('.') != std::string::npos; };
+  if (reads_y) {
     if (q.kind == Quantity::Kind::curve) q.x = text(t, "x", ctx, allowed_xy);
     q.y = text(t, "y", ctx, allowed_xy);
+    if (!q.x.empty() && recorder_column(q.x) != recorder_column(q.y))
+      throw Error(location(*t.get("x")),
+                  ctx + " x = \"" + q.x + "\" and y = \"" + q.y +
+                      "\" must both be recorder columns or both the pile curve's (load, "
+                      "settlement): their rows are not the same steps");
   } else {
-    for (const char* k : {"x", "y", "at"})
-      if (t.get(k)) throw Error(location(*t.get(k)), ctx + " " + k + " is only for the types curve and last");
+    for (const char* k : {"x", "y", "at", "stage"})
+      if (t.get(k))
+        throw Error(location(*t.get(k)), ctx + " " + k + " is only for the types curve, last, max and min");
+  }
+  if (const toml::node* st = t.get("stage")) {
+    const std::string name = text(t, "stage", ctx);
+    if (!recorder_column(q.y) || (!q.x.empty() && !recorder_column(q.x)))
+      throw Error(location(*st), ctx + " stage acts only on recorder columns (\"<recorder>.<column>\"); the "
+                                       "pile curve's load and settlement are those of its loaded stages");
+    const auto it = std::find(columns.stages.begin(), columns.stages.end(), name);
+    if (it == columns.stages.end()) {
+      std::string list;
+      for (const auto& n : columns.stages) list += (list.empty() ? "" : ", ") + n;
+      throw Error(location(*st), ctx + " stage = \"" + name +
+                                     "\" is not a stage of the base scene; its stages: " +
+                                     (list.empty() ? "(none named)" : list));
+    }
+    q.stage = static_cast<int>(it - columns.stages.begin()) + 1;
   }
   if (q.kind == Quantity::Kind::curve) {
     if (!t.get("at"))
@@ -445,10 +497,11 @@ Study Study::from_string(const std::string& text_in, const std::string& path) {
     st.params_.push_back(read_parameter(*ptables[i], i, ss, base->root, names));
 
   // Quantities.
-  const auto& allowed_xy = st.point_ ? point_columns() : scene_columns;
+  const StudyColumns columns =
+      st.point_ ? StudyColumns{point_columns(), {}} : scene_study_columns(base->root);
   const auto qtables = tables_of(root, "quantities");
   for (std::size_t i = 0; i < qtables.size(); ++i)
-    st.quantities_.push_back(read_quantity(*qtables[i], i, st.point_, allowed_xy, names));
+    st.quantities_.push_back(read_quantity(*qtables[i], i, st.point_, columns, names));
 
   // The samples.
   if (st.design_ == Design::one_at_a_time)
