@@ -313,6 +313,39 @@ TEST_CASE(
           "stage acts only on recorder columns");
 }
 
+TEST_CASE("a study reads a pile's settlement components: head = shortening + base", "[sweep]") {
+  // The elastic pile with its cells named ([output] pile_cells): its head settlement (the area
+  // mean over the head; the curve's `settlement` is the mean of the head's nodes) is its
+  // shortening plus its base settlement (pile_components.hpp: to round-off for a prismatic pile of
+  // fully integrated cells), at any load and for any stiffness.
+  const Env env;
+  const Study st = pile_study(
+      "design = \"one_at_a_time\"\n[fixed]\n\"output.pile_cells\" = \"pile\"",
+      "[[parameters]]\nname = \"stiff\"\npath = \"materials.soil.E\"\nscale = true\nlow = 0.5\nhigh = 2.0\n"
+      "[[quantities]]\nname = \"s\"\ntype = \"curve\"\nx = \"load\"\ny = \"head_settlement\"\nat = 60.0\n"
+      "[[quantities]]\nname = \"short\"\ntype = \"curve\"\nx = \"load\"\ny = \"pile_shortening\"\nat = 60.0\n"
+      "[[quantities]]\nname = \"base\"\ntype = \"curve\"\nx = \"load\"\ny = \"base_settlement\"\nat = "
+      "60.0\n");
+  const std::string out = (std::filesystem::temp_directory_path() / "stratum_sweep_components").string();
+  for (int i = 0; i < 3; ++i) {
+    const SampleResult r = st.run(i, out);
+    INFO(r.row);
+    REQUIRE(r.status == "converged");
+    const auto c = cells(r.row);
+    const double s = std::stod(c[3]), shortening = std::stod(c[4]), base = std::stod(c[5]);
+    CHECK(shortening > 0.0);
+    CHECK(base > 0.0);
+    CHECK(s == Approx(shortening + base).epsilon(1e-9));
+  }
+  // Without the pile's cells the components are not columns.
+  REQUIRE_THROWS_WITH(
+      pile_study("design = \"one_at_a_time\"",
+                 "[[parameters]]\nname = \"stiff\"\npath = \"materials.soil.E\"\nscale = "
+                 "true\nlow = 0.5\nhigh = 2.0\n[[quantities]]\nname = \"b\"\ntype = "
+                 "\"last\"\ny = \"base_settlement\"\n"),
+      Catch::Matchers::Contains("y = \"base_settlement\" is not allowed; allowed: load, settlement"));
+}
+
 TEST_CASE("a point-file study: drained triaxial q = E eps_axial, and a failing sample is a row", "[sweep]") {
   const Env env;
   const Study st = Study::from_string(

@@ -125,6 +125,11 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
         cols["load"].push_back(r[0]);
         cols["settlement"].push_back(r[1]);
       }
+      // Each row of the curve has its components when the scene names the pile's cells.
+      if (s.settlement_components.size() == s.load_settlement.size())
+        for (const auto& r : s.settlement_components)
+          for (std::size_t k = 0; k < pile_component_columns().size(); ++k)
+            cols[pile_component_columns()[k]].push_back(r[k + 1]);
       for (const RecordedTable& t : analysis->recorded())
         for (std::size_t c = 0; c < t.columns.size(); ++c) {
           auto& v = cols[t.name + "." + t.columns[c]];

@@ -51,6 +51,13 @@ const std::vector<std::string> scene_columns = {"load", "settlement"};
 
 } // namespace
 
+const std::vector<std::string>& detail::pile_component_columns() {
+  static const std::vector<std::string> columns = {"head_settlement", "pile_shortening", "base_settlement",
+                                                   "shaft_slip_mean", "shaft_slip_top",  "shaft_load",
+                                                   "base_load"};
+  return columns;
+}
+
 const std::vector<std::string>& detail::point_columns() {
   static const std::vector<std::string> columns = {
       "step",   "eps_xx", "eps_yy", "eps_zz", "gamma_xy",  "gamma_yz", "gamma_zx", "sig_xx", "sig_yy",
@@ -300,8 +307,13 @@ struct StudyColumns {
 StudyColumns scene_study_columns(const toml::table& base) {
   StudyColumns c;
   c.allowed = scene_columns;
-  if (const toml::table* out = table_of(base, "output"))
-    for (const toml::table* h : tables_of(*out, "history")) {
+  // The settlement components of a pile whose cells the scene names ([output] pile_cells), the
+  // rows of curves/settlement_components.csv (pile_components.hpp), one per row of the curve.
+  const toml::table* output = table_of(base, "output");
+  if (output && output->get("pile_cells"))
+    c.allowed.insert(c.allowed.end(), pile_component_columns().begin(), pile_component_columns().end());
+  if (output)
+    for (const toml::table* h : tables_of(*output, "history")) {
       const RecorderSpec r = read_recorder(*h, "[[output.history]]", Units{});
       if (r.kind == "interface") continue;
       for (const char* k : {"stage", "step", "lambda"}) c.allowed.push_back(r.name + "." + k);

@@ -19,6 +19,11 @@ struct Study::Base {
 
 namespace detail {
 
+/// The settlement components of a pile a study may read (columns 2-8 of
+/// curves/settlement_components.csv: mm and kN, or the scene's units; head_settlement is the area
+/// mean over the head, the curve's `settlement` the mean of its nodes).
+[[nodiscard]] const std::vector<std::string>& pile_component_columns();
+
 /// The columns of a point run's CSV that a study may read (`point` outputs).
 [[nodiscard]] const std::vector<std::string>& point_columns();
 
