@@ -220,8 +220,10 @@ TableKeys plugins_keys() {
 Schema constraint_schema() {
   Schema s;
   s.text("nodes", {}, "node or edge set whose nodes are fixed or moved");
-  s.real("ux", "m", "prescribed x (radial) displacement at load factor 1").defaults_to(0.0);
-  s.real("uy", "m", "prescribed y (vertical) displacement at load factor 1").defaults_to(0.0);
+  s.real("ux", "m", "prescribed x (radial) displacement at load factor 1; left out: the component is free")
+      .defaults_to_computed(0.0, "free (not prescribed)");
+  s.real("uy", "m", "prescribed y (vertical) displacement at load factor 1; left out: the component is free")
+      .defaults_to_computed(0.0, "free (not prescribed)");
   s.text("field", {},
          "another unknown the domains' elements declare, by name (e.g. p, a pore pressure; `stratum check` "
          "lists the scene's fields), prescribed to `value`")
