@@ -49,7 +49,9 @@ stratum_configure() {
 stratum_build() {
   stratum_configure
   # getconf, not nproc: nproc honours the OMP_NUM_THREADS=1 exported below and built on one core.
-  cmake --build "$STRATUM_BUILD" -j "$(getconf _NPROCESSORS_ONLN)"
+  # STRATUM_BUILD_TARGET (tools/run: stratum_program) builds only that target; unset: everything.
+  cmake --build "$STRATUM_BUILD" -j "$(getconf _NPROCESSORS_ONLN)" \
+    ${STRATUM_BUILD_TARGET:+--target "$STRATUM_BUILD_TARGET"}
 }
 
 # One BLAS thread: on two shared cores two threads were slower (docs/performance.md).
