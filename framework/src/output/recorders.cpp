@@ -114,6 +114,16 @@ void point_water(const Model& m, const Domain& dm, std::size_t ci, std::vector<P
   const bool undrained = dm.drainage == "undrained", total_only = dm.drainage == "undrained_total";
   const bool non_porous = dm.drainage == "non_porous";
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  // An interface's points carry a contact traction, total (the laws know no pore pressure).
+  if (!is_solid(m.mesh.cells[static_cast<std::size_t>(c)].type)) {
+    for (std::size_t q = 0; q < count; ++q) {
+      PointWater& w = out[q];
+      w.p_steady = w.p_excess = nan;
+      w.effective.setConstant(nan);
+      w.total = dm.states.committed(first + q).stress();
+    }
+    return;
+  }
   for (std::size_t q = 0; q < count; ++q) {
     const auto slot = dm.states.committed(first + q);
     PointWater& w = out[q];

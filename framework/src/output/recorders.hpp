@@ -64,7 +64,8 @@ struct PointWater {
 /// The pore water at the points of cell ci of a domain (point order) from the committed state:
 /// a porous element interpolates its unknown p (Element::point_field), an undrained domain keeps
 /// p in its history, a drained one has none; the steady pressure is Model::water's at the
-/// point; a non-porous domain has no water (its stress is total).
+/// point; a non-porous domain has no water (its stress is total); an interface's points carry a
+/// total contact traction (pressures and effective stress NaN).
 void point_water(const Model& m, const Domain& dm, std::size_t ci, std::vector<PointWater>& out);
 
 /// Evaluates the checks on the recorders' last rows (a recorder without rows fails its checks).
