@@ -90,7 +90,7 @@ TEST_CASE("stability harness: a scene's relative includes run from the harness' 
   const auto cap = st::input_scene(STRATUM_SOURCE_DIR, "inputs/loess_pile/cap.toml");
   CHECK(cap.text.find("model = \"cap_sandler\"") == std::string::npos);
   CHECK(cap.integ_table == "[materials.loess]");
-  CHECK(cap.integ_key == "integration");
+  CHECK(cap.integ_key == "integrator");
   CHECK(cap.integrators == std::vector<std::string>{"closest_point", "sandler_rubin"});
 }
 
@@ -220,7 +220,7 @@ TEST_CASE("stability matrix, reduced: no crash, NaN/Inf or silent failure", "[st
   std::vector<std::pair<std::string, std::string>> seen; // case, outcome
   for (const auto& s : scenes) {
     std::vector<std::string> integ{""};
-    if (s.integ_key == "integrator")
+    if (s.integrators == st::plasticity_integrators()) // the general plasticity models
       integ = {"forward_euler", "closest_point"};
     else if (!s.integrators.empty())
       integ = s.integrators;

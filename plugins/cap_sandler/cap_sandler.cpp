@@ -63,7 +63,7 @@ stratum::Declared<Input> declare() {
       .greater_than(0.0)
       .defaults_to_computed(1.0, "ln(A/C)/B, computed");
   d.choice(
-       &Input::integration, "integration",
+       &Input::integration, "integrator",
        {{"sandler_rubin", cs::Integration::sandler_rubin}, {"closest_point", cs::Integration::closest_point}},
        "sandler_rubin: the thesis' algorithm (4.51)-(4.69), continuum tangent; closest_point: "
        "backward-Euler return with the consistent tangent")
@@ -88,7 +88,7 @@ stratum::Declared<Input> declare() {
   });
   d.check([](const Input& in, const Params& p) -> std::optional<Problem> {
     if (in.integration == cs::Integration::closest_point && p.where("corner").known())
-      return Problem{"corner", "corner applies to integration = \"sandler_rubin\" only"};
+      return Problem{"corner", "corner applies to integrator = \"sandler_rubin\" only"};
     return std::nullopt;
   });
   return d;

@@ -179,7 +179,7 @@ struct Scene {
   std::string name;        ///< "strip_footing", "strip_footing nu=0.499", ...
   std::string text;        ///< the TOML of the scene
   std::string integ_table; ///< material table whose integrator is varied ("" : none)
-  std::string integ_key;   ///< "integrator", "update" or "integration"
+  std::string integ_key;   ///< "integrator" or "update" (Duncan-Chang)
   std::vector<std::string> integrators;
 };
 
@@ -273,7 +273,7 @@ inline Scene input_scene(const fs::path& source_dir, const std::string& rel) {
     s.integrators = {"explicit", "incremental"};
   } else if (models.find("model = \"cap_sandler\"") != std::string::npos) {
     s.integ_table = "[materials.loess]";
-    s.integ_key = "integration";
+    s.integ_key = "integrator";
     s.integrators = {"closest_point", "sandler_rubin"};
   }
   return s;
@@ -347,10 +347,10 @@ inline Scene cap_near_apex() {
   const std::string mat =
       "[materials.soil]\nmodel = \"cap_sandler\"\nE = 18000.0\nnu = 0.30\nT_CUT = 30.0\n"
       "A = 190.0\nB = 0.0015\nC = 110.0\nD = 0.00023\nR = 2.50\nW = 0.06\nF_CUT = 364.34\n"
-      "Z = 0.0\nintegration = \"closest_point\"\n";
+      "Z = 0.0\nintegrator = \"closest_point\"\n";
   s.text = sample_scene(s.name, mat, 2.0, 130.0);
   s.integ_table = "[materials.soil]";
-  s.integ_key = "integration";
+  s.integ_key = "integrator";
   s.integrators = {"closest_point", "sandler_rubin"};
   return s;
 }
