@@ -391,8 +391,11 @@ steps = 2
   auto* units = vtkStringArray::SafeDownCast(fd->GetAbstractArray("units"));
   REQUIRE(units != nullptr);
   CHECK(units->GetValue(0) == "N, mm, MPa");
-  CHECK(fd->GetAbstractArray("head_load_N") != nullptr);
+  // No pile head in Lame's scene: no head load or settlement in its field data, in any unit.
+  CHECK(fd->GetAbstractArray("head_load_N") == nullptr);
   CHECK(fd->GetAbstractArray("head_load_kN") == nullptr);
+  CHECK(fd->GetAbstractArray("head_settlement_mm") == nullptr);
+  CHECK(fd->GetAbstractArray("load_factor") != nullptr);
   fs::remove_all(dir);
 }
 

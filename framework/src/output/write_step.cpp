@@ -87,11 +87,12 @@ void write_step(VtkSeriesWriter& w, const RunView& run) {
   out.texts = {{"stage", state.stage_name}};
   // Other units than kN, m: named in the field data (kN, m writes what it always wrote).
   if (!units.is_default()) out.texts.push_back({"units", units.describe()});
-  out.values = {{"stage_number", state.stage_number},
-                {"step", state.stage_step},
-                {"load_factor", m.lambda},
-                {units.column("head_load", "kN"), state.head_load},
-                {"head_settlement_" + units.small_length(), state.head_settlement}};
+  out.values = {{"stage_number", state.stage_number}, {"step", state.stage_step}, {"load_factor", m.lambda}};
+  // The pile head's load and settlement, in a scene that loads one (NaN before its stage).
+  if (settings.pile_head) {
+    out.values.push_back({units.column("head_load", "kN"), state.head_load});
+    out.values.push_back({"head_settlement_" + units.small_length(), state.head_settlement});
+  }
   // Every load of the stage: the fraction of its full value applied now and its vertical
   // resultant (y up; 0 for a pressure on a vertical wall), named after the load.
   for (const auto& l : state.stage_loads) {

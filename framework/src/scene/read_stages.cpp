@@ -116,6 +116,10 @@ void scene::read_stages(const toml::table& root, PluginCatalog& catalog, Registr
   if (const auto* st = root.get("stages"); st && stage_list.empty())
     throw Error(location(*st), "stages = [] holds no stage; give at least one [[stages]] table, or leave "
                                "the key out and load the scene with [[loads]]");
+  for (const auto* st : stage_list)
+    for (const auto* a : table_list(*st, "actions"))
+      if (const auto* type = a->get("type"); type && type->value<std::string>() == std::string("load"))
+        sc.settings.pile_head = true;
   // Nothing holds the model: its matrix is singular (found on 997ba04: one "converged" iteration).
   // A head pushed down by a prescribed settlement holds it too.
   if (sc.constraints.empty()) {

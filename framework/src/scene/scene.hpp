@@ -49,6 +49,9 @@ struct Settings {
   double tables_every = 5.0;
   std::string pile_cells;
   SourceLocation pile_cells_at;
+  /// A stage loads a pile head (a `load` action): the VTK steps carry the head's load and
+  /// settlement as field data (NaN before the head is loaded); other scenes have no such values.
+  bool pile_head = false;
 };
 
 /// [mesh]: blocks, a Gmsh file or a registered generator with its checked table.
