@@ -263,6 +263,19 @@ TEST_CASE("groundwater: a phreatic polyline and an inflow refuse bad input with 
   refused(sloped_block("[0.0, 10.0]", "[-1.0]"), "a phreatic polyline needs the same number, at least 2");
   refused(sloped_block("[0.0, 10.0]", "[-1.0, -2.0]") + "water_level = -1.0\n",
           "give either water_level (a horizontal level) or water_line_x and water_line_y");
+  // An inflow through the top of displacement-only cells: no node there carries a pore pressure.
+  std::string dry = sloped_block("[0.0, 10.0]", "[-1.0, -2.0]");
+  dry = stratum::testing::replace_once(dry, "element = \"quad8p4\"", "element = \"quad\"");
+  dry = stratum::testing::replace_once(
+      dry, "permeability = 1e-7\nporosity = 0.35\nfluid_bulk_modulus = 2.2e6\nunit_weight_water = 10.0\n",
+      "");
+  refused(
+      dry +
+          "[[stages]]\nname = \"recharge\"\n[[stages.actions]]\ntype = \"inflow\"\nedges = \"soil.top\"\nq = "
+          "1e-7\n",
+      "inflow: no node of edge set \"soil.top\" carries a pore pressure p; the set must bound cells of a "
+      "porous "
+      "element");
   refused(inflow_column("plane_strain", 10.0) +
               "[[stages.actions]]\ntype = \"water_level\"\nline_x = [0.0, 0.5]\n"
               "line_y = [1.0, 1.0]\n",

@@ -48,7 +48,7 @@ def scene_text(name, steps, force, solver="newton", update=None, rtol=None, vtk=
         t = re.sub(r"(?ms)^\[solver\]\n.*?(?=^\[)", "", t)
     if update and name == "cap":  # the cap's integrator, in the included material set
         assert not re.search(r"(?m)^\[materials\.loess\]", t), "cap.toml: [materials.loess] is written out"
-        t += f'\n[materials.loess]\nintegration = "{update}"\n'
+        t += f'\n[materials.loess]\nintegrator = "{update}"\n'
     elif update:
         t = re.sub(r'(?m)^update = "explicit".*$', f'update = "{update}"', t)
         if update != "explicit":  # keeping branch decisions belongs to the explicit update
