@@ -145,6 +145,13 @@ Recorder::Recorder(const RecorderSpec& spec, const Model& model)
     : name_(spec.name), kind_(spec.kind), set_(spec.set), quantities_(spec.quantities) {
   const std::string& ctx = spec.context;
   at_[0] = spec.at[0], at_[1] = spec.at[1];
+  if (kind_ == "point") {
+    const auto& names = allowed(kind_);
+    wants_water_ = std::any_of(quantities_.begin(), quantities_.end(), [&](const std::string& q) {
+      return std::find(names.begin(), names.end(), q) - names.begin() >=
+             static_cast<std::ptrdiff_t>(point_dry_quantities);
+    });
+  }
   if (kind_ == "global" && model.dofs.field("p") < 0)
     for (std::size_t i = 0; i < quantities_.size(); ++i)
       if (quantities_[i] == "p_max" || quantities_[i] == "p_mean" || quantities_[i] == "U")
@@ -288,11 +295,7 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
       }
     // The pore water of the nearest point, when asked for any of it.
     v.resize(names.size(), std::numeric_limits<double>::quiet_NaN());
-    const bool wants_water = std::any_of(quantities_.begin(), quantities_.end(), [&](const std::string& q) {
-      return std::find(names.begin(), names.end(), q) - names.begin() >=
-             static_cast<std::ptrdiff_t>(point_dry_quantities);
-    });
-    if (wants_water && at_domain) {
+    if (wants_water_ && at_domain) {
       std::vector<PointWater> water;
       point_water(m, *at_domain, at_cell, water);
       const PointWater& w = water[static_cast<std::size_t>(at_point)];

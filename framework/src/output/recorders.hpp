@@ -45,6 +45,7 @@ private:
   std::vector<int> nodes_; ///< node: the one node; nodes: the set
   std::size_t domain_ = 0; ///< interface: index of the interface's domain in Model::domains
   double at_[2] = {0.0, 0.0};
+  bool wants_water_ = false; ///< point: a pore-water quantity is asked for (PointWater)
   std::vector<RecorderRow> rows_;
   /// global U: the stage of the last sample, the mean excess pressure then, and at the stage's start
   int last_stage_ = -1;

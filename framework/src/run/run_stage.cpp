@@ -276,8 +276,12 @@ bool Analysis::Impl::run_stage(std::size_t k, RunSummary& summary, VtkSeriesWrit
   if (!initial_forces(m, assembler, *ls, st.name, summary, f0)) return false;
   Eigen::VectorXd target = Eigen::VectorXd::Zero(m.u.size());
   for (const auto& l : loads) add_load(m, l, target);
-  m.inflow = Eigen::VectorXd::Zero(m.u.size());
-  for (const auto& l : loads) add_inflow(m, l, m.inflow);
+  m.inflow.resize(0); // empty without an inflow: the problem then adds nothing
+  for (const auto& l : loads)
+    if (l.kind == LoadSpec::Kind::inflow) {
+      if (m.inflow.size() == 0) m.inflow = Eigen::VectorXd::Zero(m.u.size());
+      add_inflow(m, l, m.inflow);
+    }
   record_stage_loads(loads_before);
   set_stage_load(m, f0, target, actions.load_jumps);
   StaticProblem problem(m, assembler, *ls, summary.times, st.consolidation ? st.duration : 0.0);

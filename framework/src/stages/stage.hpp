@@ -55,7 +55,8 @@ struct AtRest {
   double gamma_w = 9.81;  ///< unit weight of water, kN/m3
   /// The steady pore pressure at (x, y), compression positive: gamma_w (level(x) - y) below the level.
   [[nodiscard]] double pore_pressure(double x, double y) const {
-    return Water{water, gamma_w}.pressure(x, y);
+    const double top = water.at(x);
+    return y < top ? gamma_w * (top - y) : 0.0;
   }
   /// The vertical effective stress at (x, y) (tension positive; 0 above the surface): the total
   /// weight of the soil (and of water standing above the surface) above it in its vertical, plus

@@ -48,6 +48,57 @@ std::string csv_text(std::string s) {
   return q + "\"";
 }
 
+/// The samples.csv cells of one quantity (each with its leading comma), read from a run's
+/// columns (`cols`: the pile curve's, the recorders' "<name>.<column>", a point file's) and
+/// counts.
+std::string quantity_cells(const Quantity& q, std::map<std::string, std::vector<double>>& cols, double steps,
+                           double cutbacks, double iterations) {
+  std::string cells;
+  // The rows the quantity reads: all, or those of its stage (by the stage column of y's recorder).
+  const auto rows_of = [&](const std::string& column) {
+    std::vector<double> v = cols[column];
+    if (q.stage <= 0) return v;
+    const auto& stage = cols[column.substr(0, column.find('.')) + ".stage"];
+    std::vector<double> kept;
+    for (std::size_t k = 0; k < v.size() && k < stage.size(); ++k)
+      if (stage[k] == q.stage) kept.push_back(v[k]);
+    return kept;
+  };
+  const std::vector<double> y = rows_of(q.y);
+  switch (q.kind) {
+  case Quantity::Kind::curve: {
+    const std::vector<double> x = rows_of(q.x);
+    // Recorders sample every accepted step: two of them have as many rows. A curve of columns
+    // of unequal length (the pile curve against a recorder) has none.
+    std::vector<std::array<double, 2>> xy(x.size() == y.size() ? x.size() : 0);
+    for (std::size_t k = 0; k < xy.size(); ++k) xy[k] = {x[k], y[k]};
+    for (double a : q.at) cells += "," + format_number(curve_at(xy, a));
+    break;
+  }
+  case Quantity::Kind::last:
+    cells += "," + format_number(y.empty() ? not_a_number : y.back());
+    break;
+  case Quantity::Kind::max:
+  case Quantity::Kind::min: {
+    double v = not_a_number;
+    for (double e : y)
+      if (std::isfinite(e) && !(q.kind == Quantity::Kind::max ? v >= e : v <= e)) v = e;
+    cells += "," + format_number(v);
+    break;
+  }
+  case Quantity::Kind::steps:
+    cells += "," + format_number(steps);
+    break;
+  case Quantity::Kind::cutbacks:
+    cells += "," + format_number(cutbacks);
+    break;
+  case Quantity::Kind::iterations:
+    cells += "," + format_number(iterations);
+    break;
+  }
+  return cells;
+}
+
 } // namespace
 
 std::string Study::header() const {
@@ -167,50 +218,7 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
   std::string row = std::to_string(index);
   if (design_ == Design::one_at_a_time) row += "," + smp.varied;
   for (double v : smp.values) row += "," + format_number(v);
-  for (const auto& q : quantities_) {
-    // The rows the quantity reads: all, or those of its stage (by the stage column of y's recorder).
-    const auto rows_of = [&](const std::string& column) {
-      std::vector<double> v = cols[column];
-      if (q.stage <= 0) return v;
-      const auto& stage = cols[column.substr(0, column.find('.')) + ".stage"];
-      std::vector<double> kept;
-      for (std::size_t k = 0; k < v.size() && k < stage.size(); ++k)
-        if (stage[k] == q.stage) kept.push_back(v[k]);
-      return kept;
-    };
-    const std::vector<double> y = rows_of(q.y);
-    switch (q.kind) {
-    case Quantity::Kind::curve: {
-      const std::vector<double> x = rows_of(q.x);
-      // Recorders sample every accepted step: two of them have as many rows. A curve of columns
-      // of unequal length (the pile curve against a recorder) has none.
-      std::vector<std::array<double, 2>> xy(x.size() == y.size() ? x.size() : 0);
-      for (std::size_t k = 0; k < xy.size(); ++k) xy[k] = {x[k], y[k]};
-      for (double a : q.at) row += "," + format_number(curve_at(xy, a));
-      break;
-    }
-    case Quantity::Kind::last:
-      row += "," + format_number(y.empty() ? not_a_number : y.back());
-      break;
-    case Quantity::Kind::max:
-    case Quantity::Kind::min: {
-      double v = not_a_number;
-      for (double e : y)
-        if (std::isfinite(e) && !(q.kind == Quantity::Kind::max ? v >= e : v <= e)) v = e;
-      row += "," + format_number(v);
-      break;
-    }
-    case Quantity::Kind::steps:
-      row += "," + format_number(steps);
-      break;
-    case Quantity::Kind::cutbacks:
-      row += "," + format_number(cutbacks);
-      break;
-    case Quantity::Kind::iterations:
-      row += "," + format_number(iterations);
-      break;
-    }
-  }
+  for (const auto& q : quantities_) row += quantity_cells(q, cols, steps, cutbacks, iterations);
   row += "," + status + "," + (reason.empty() ? std::string() : csv_text(reason));
   SampleResult r;
   r.index = index;
