@@ -12,6 +12,7 @@
 //   stratum COMMAND --help, stratum help COMMAND
 //
 // Errors are one line on stderr and a non-zero exit code.
+#include "calibrate.hpp"
 #include "files.hpp"
 #include "fit.hpp"
 #include "guards.hpp"
@@ -54,6 +55,7 @@ constexpr const char* usage =
     "       stratum describe [SECTION | --markdown]   the scene format: sections and their keys\n"
     "       stratum fit TARGET CSV... [-o FILE.toml]\n"
     "       stratum sweep STUDY.toml [--out DIR] [--print-scene INDEX]   (also under mpirun -n N)\n"
+    "       stratum calibrate STUDY.toml [--out DIR] [--print-scene]   (also under mpirun -n N)\n"
     "       stratum --version\n"
     "       stratum COMMAND --help   (or stratum help COMMAND): the command's options and exit status\n"
     "exit status: 0 done (a collapse or a settlement limit of the last stage included), 1 bad input,\n"
@@ -70,11 +72,12 @@ std::string help_of(const std::string& cmd) {
   if (cmd == "describe") return stratum::cli::describe_help();
   if (cmd == "fit") return stratum::cli::fit_help(); // lists the targets the plugins declare
   if (cmd == "sweep") return stratum::cli::sweep_help();
+  if (cmd == "calibrate") return stratum::cli::calibrate_help();
   return {};
 }
 
-constexpr const char* commands[] = {"run",     "check",    "point", "fit",      "sweep",
-                                    "plugins", "describe", "help",  "--version"};
+constexpr const char* commands[] = {"run",       "check",   "point",    "fit",  "sweep",
+                                    "calibrate", "plugins", "describe", "help", "--version"};
 
 } // namespace
 
@@ -98,7 +101,7 @@ int main(int argc, char** argv) {
     if ((cmd == "help" || cmd == "--help" || cmd == "-h") && !rest.empty()) {
       if (help_of(rest[0]).empty())
         throw Error("help: unknown command '" + rest[0] +
-                    "'; allowed: run, check, point, fit, sweep, plugins, describe" +
+                    "'; allowed: run, check, point, fit, sweep, calibrate, plugins, describe" +
                     did_you_mean(rest[0], commands));
       std::cout << help_of(rest[0]);
       return 0;
@@ -114,12 +117,13 @@ int main(int argc, char** argv) {
     if (cmd == "point") return stratum::cli::point(rest);
     if (cmd == "fit") return stratum::cli::fit(rest);
     if (cmd == "sweep") return stratum::cli::sweep(rest);
+    if (cmd == "calibrate") return stratum::cli::calibrate(rest);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::cout << usage;
       return 0;
     }
     throw Error("unknown command '" + cmd +
-                "'; allowed: run, check, point, fit, sweep, plugins, describe, help, --version" +
+                "'; allowed: run, check, point, fit, sweep, calibrate, plugins, describe, help, --version" +
                 did_you_mean(cmd, commands));
   } catch (const stratum::WriteError& e) {
     // A result file could not be written (disk full, file size limit): the run failed, its input

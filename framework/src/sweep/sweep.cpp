@@ -51,27 +51,13 @@ std::string csv_text(std::string s) {
 /// The samples.csv cells of one quantity (each with its leading comma), read from a run's
 /// columns (`cols`: the pile curve's, the recorders' "<name>.<column>", a point file's) and
 /// counts.
-std::string quantity_cells(const Quantity& q, std::map<std::string, std::vector<double>>& cols, double steps,
-                           double cutbacks, double iterations) {
+std::string quantity_cells(const Quantity& q, const Columns& cols, double steps, double cutbacks,
+                           double iterations) {
   std::string cells;
-  // The rows the quantity reads: all, or those of its stage (by the stage column of y's recorder).
-  const auto rows_of = [&](const std::string& column) {
-    std::vector<double> v = cols[column];
-    if (q.stage <= 0) return v;
-    const auto& stage = cols[column.substr(0, column.find('.')) + ".stage"];
-    std::vector<double> kept;
-    for (std::size_t k = 0; k < v.size() && k < stage.size(); ++k)
-      if (stage[k] == q.stage) kept.push_back(v[k]);
-    return kept;
-  };
-  const std::vector<double> y = rows_of(q.y);
+  const std::vector<double> y = column_rows(cols, q.y, q.stage);
   switch (q.kind) {
   case Quantity::Kind::curve: {
-    const std::vector<double> x = rows_of(q.x);
-    // Recorders sample every accepted step: two of them have as many rows. A curve of columns
-    // of unequal length (the pile curve against a recorder) has none.
-    std::vector<std::array<double, 2>> xy(x.size() == y.size() ? x.size() : 0);
-    for (std::size_t k = 0; k < xy.size(); ++k) xy[k] = {x[k], y[k]};
+    const auto xy = curve_of(cols, q.x, q.y, q.stage);
     for (double a : q.at) cells += "," + format_number(curve_at(xy, a));
     break;
   }
@@ -112,32 +98,53 @@ std::string Study::header() const {
 
 std::string Study::scene_text(int index) const {
   toml::table root = base_->root;
-  const Sample& smp = samples_.at(static_cast<std::size_t>(index));
-  for (std::size_t j = 0; j < params_.size(); ++j) {
-    const auto& p = params_[j];
-    for (const auto& path : p.paths)
-      for (auto* leaf : number_leaves(root, path))
-        set_number(*leaf, p.scale ? number_of(*leaf) * smp.values[j] : smp.values[j]);
-  }
+  apply_values(root, params_, samples_.at(static_cast<std::size_t>(index)).values);
   std::ostringstream o;
   o << root << "\n";
   return o.str();
 }
 
-SampleResult Study::run(int index, const std::string& out_dir) const {
-  const auto t0 = std::chrono::steady_clock::now();
-  const double cpu0 = thread_cpu_seconds();
-  const Sample& smp = samples_.at(static_cast<std::size_t>(index));
-  std::string status = "failed", reason;
-  std::map<std::string, std::vector<double>> cols;
-  double steps = not_a_number, cutbacks = not_a_number, iterations = not_a_number;
-  const fs::path sample_dir = fs::path(out_dir) / "samples" / std::to_string(index);
+void detail::apply_values(toml::table& root, const std::vector<Parameter>& params,
+                          const std::vector<double>& values) {
+  for (std::size_t j = 0; j < params.size(); ++j) {
+    const auto& p = params[j];
+    for (const auto& path : p.paths)
+      for (auto* leaf : number_leaves(root, path))
+        set_number(*leaf, p.scale ? number_of(*leaf) * values[j] : values[j]);
+  }
+}
+
+std::vector<double> detail::column_rows(const Columns& cols, const std::string& column, int stage) {
+  const auto it = cols.find(column);
+  if (it == cols.end()) return {};
+  if (stage <= 0) return it->second;
+  const auto st = cols.find(column.substr(0, column.find('.')) + ".stage");
+  if (st == cols.end()) return {};
+  std::vector<double> kept;
+  for (std::size_t k = 0; k < it->second.size() && k < st->second.size(); ++k)
+    if (st->second[k] == stage) kept.push_back(it->second[k]);
+  return kept;
+}
+
+std::vector<std::array<double, 2>> detail::curve_of(const Columns& cols, const std::string& x,
+                                                    const std::string& y, int stage) {
+  const std::vector<double> xs = column_rows(cols, x, stage), ys = column_rows(cols, y, stage);
+  // Recorders sample every accepted step: two of them have as many rows. A curve of columns of
+  // unequal length (the pile curve against a recorder) has none.
+  std::vector<std::array<double, 2>> xy(xs.size() == ys.size() ? xs.size() : 0);
+  for (std::size_t k = 0; k < xy.size(); ++k) xy[k] = {xs[k], ys[k]};
+  return xy;
+}
+
+RunColumns detail::run_columns(const std::string& text, const std::string& base_path, bool point,
+                               bool write_output, const std::string& out_dir, const std::string& hint) {
+  RunColumns rc;
+  auto& cols = rc.cols;
   try {
-    const std::string text = scene_text(index);
-    if (point_) {
-      const auto driver = PointDriver::from_string(text, base_path_);
+    if (point) {
+      const auto driver = PointDriver::from_string(text, base_path);
       const PointRun r = driver->run();
-      if (sample_output_) PointDriver::write_csv(r, (sample_dir / "point.csv").string());
+      if (write_output) PointDriver::write_csv(r, (fs::path(out_dir) / "point.csv").string());
       for (const auto& row : r.rows) {
         const auto& e = row.strain;
         const auto& s = row.stress;
@@ -163,14 +170,14 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
                             q};
         for (std::size_t k = 0; k < point_columns().size(); ++k) cols[point_columns()[k]].push_back(v[k]);
       }
-      steps = r.rows.empty() ? 0.0 : static_cast<double>(r.rows.size() - 1);
-      status = r.outcome.ok() ? "converged" : "failed";
-      if (!r.outcome.ok()) reason = std::string(to_string(r.outcome.status)) + ": " + r.outcome.message;
+      rc.steps = r.rows.empty() ? 0.0 : static_cast<double>(r.rows.size() - 1);
+      rc.status = r.outcome.ok() ? "converged" : "failed";
+      if (!r.outcome.ok()) rc.reason = std::string(to_string(r.outcome.status)) + ": " + r.outcome.message;
     } else {
       RunOptions o;
-      o.write_output = sample_output_;
-      o.out_dir = sample_dir.string();
-      const auto analysis = Analysis::from_string(text, base_path_, o);
+      o.write_output = write_output;
+      o.out_dir = out_dir;
+      const auto analysis = Analysis::from_string(text, base_path, o);
       const RunSummary s = analysis->run();
       for (const auto& r : s.load_settlement) {
         cols["load"].push_back(r[0]);
@@ -186,44 +193,61 @@ SampleResult Study::run(int index, const std::string& out_dir) const {
           auto& v = cols[t.name + "." + t.columns[c]];
           for (const auto& row : t.rows) v.push_back(c < row.size() ? row[c] : not_a_number);
         }
-      steps = s.steps_done;
-      cutbacks = s.cutbacks;
-      iterations = 0.0;
-      for (const auto& r : s.reports) iterations += r.iterations;
+      rc.steps = s.steps_done;
+      rc.cutbacks = s.cutbacks;
+      rc.iterations = 0.0;
+      for (const auto& r : s.reports) rc.iterations += r.iterations;
       if (!s.outcome.ok()) {
-        reason = std::string(to_string(s.outcome.status)) + ": " + s.outcome.message;
+        rc.reason = std::string(to_string(s.outcome.status)) + ": " + s.outcome.message;
       } else if (s.stop_reason != StopReason::none) {
-        status = "stopped";
-        reason = stop_reason_name(s.stop_reason) + (s.stop_message.empty() ? "" : ": " + s.stop_message);
+        rc.status = "stopped";
+        rc.reason = stop_reason_name(s.stop_reason) + (s.stop_message.empty() ? "" : ": " + s.stop_message);
       } else {
-        status = "converged";
+        rc.status = "converged";
       }
     }
   } catch (const Error& e) {
-    // A place in the sample's scene names its line in the text --print-scene shows (not in the
-    // base file, and not by the path the study was given by: the row must not depend on it).
+    // A place in the run's scene names its line in the text that `hint` shows (not in the base
+    // file, and not by the path the study was given by: the result must not depend on it).
     const auto& w = e.where();
-    reason = w.file == base_path_ ? "line " + std::to_string(w.line) + ":" + std::to_string(w.column) +
-                                        " of the sample's scene (stratum sweep --print-scene " +
-                                        std::to_string(index) + "): " + e.message()
-                                  : e.what();
+    rc.reason = w.file == base_path ? "line " + std::to_string(w.line) + ":" + std::to_string(w.column) +
+                                          " of " + hint + ": " + e.message()
+                                    : e.what();
   } catch (const std::bad_alloc&) {
-    // The sample's model did not fit in the memory the process may have (ulimit -v): a failed
-    // sample, not a defect; the others may be smaller.
-    reason = "out of memory: the process could allocate no more for this sample's model";
+    // The run's model did not fit in the memory the process may have (ulimit -v): a failed run,
+    // not a defect; the others may be smaller.
+    rc.reason = "out of memory: the process could allocate no more for this run's model";
   } catch (const std::exception& e) {
-    reason = std::string("internal error: ") + e.what();
+    rc.reason = std::string("internal error: ") + e.what();
   }
+  return rc;
+}
+
+SampleResult Study::run(int index, const std::string& out_dir) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = thread_cpu_seconds();
+  const Sample& smp = samples_.at(static_cast<std::size_t>(index));
+  const fs::path sample_dir = fs::path(out_dir) / "samples" / std::to_string(index);
+  std::string text;
+  RunColumns rc;
+  try {
+    text = scene_text(index);
+  } catch (const Error& e) {
+    rc.reason = e.what();
+  }
+  if (!text.empty())
+    rc = run_columns(text, base_path_, point_, sample_output_, sample_dir.string(),
+                     "the sample's scene (stratum sweep --print-scene " + std::to_string(index) + ")");
 
   std::string row = std::to_string(index);
   if (design_ == Design::one_at_a_time) row += "," + smp.varied;
   for (double v : smp.values) row += "," + format_number(v);
-  for (const auto& q : quantities_) row += quantity_cells(q, cols, steps, cutbacks, iterations);
-  row += "," + status + "," + (reason.empty() ? std::string() : csv_text(reason));
+  for (const auto& q : quantities_) row += quantity_cells(q, rc.cols, rc.steps, rc.cutbacks, rc.iterations);
+  row += "," + rc.status + "," + (rc.reason.empty() ? std::string() : csv_text(rc.reason));
   SampleResult r;
   r.index = index;
   r.row = std::move(row);
-  r.status = status;
+  r.status = rc.status;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.cpu_seconds = thread_cpu_seconds() - cpu0;
   return r;

@@ -30,13 +30,6 @@ namespace {
 using namespace detail;
 using io::location;
 
-bool good_name(const std::string& s) {
-  if (s.empty()) return false;
-  for (char c : s)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') return false;
-  return true;
-}
-
 std::uint64_t fnv1a(std::uint64_t h, const std::string& s) {
   for (unsigned char c : s) {
     h ^= c;
@@ -50,6 +43,21 @@ std::uint64_t fnv1a(std::uint64_t h, const std::string& s) {
 const std::vector<std::string> scene_columns = {"load", "settlement"};
 
 } // namespace
+
+bool detail::good_name(const std::string& s) {
+  if (s.empty()) return false;
+  for (char c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') return false;
+  return true;
+}
+
+std::string detail::hash_of(const std::vector<std::string>& texts) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const auto& t : texts) h = fnv1a(h, t);
+  char hex[20];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
 
 const std::vector<std::string>& detail::pile_component_columns() {
   static const std::vector<std::string> columns = {"head_settlement", "pile_shortening", "base_settlement",
@@ -150,36 +158,45 @@ StudySettings read_study_table(const toml::table& root, const std::string& path)
   return r;
 }
 
+} // namespace
+
+void detail::apply_fixed(const toml::table& study_root, toml::table& base_root, const std::string& base_path,
+                         bool point, long long threads, const toml::node& threads_where) {
+  if (!point) {
+    toml::value<int64_t> t(threads);
+    if (!base_root.get("analysis")) base_root.insert("analysis", toml::table{});
+    try {
+      assign(base_root, "analysis.threads", t);
+    } catch (const PathError& e) {
+      throw Error(location(threads_where), "threads: " + e.message);
+    }
+  }
+  if (const auto* f = table_of(study_root, "fixed")) {
+    for (auto&& [k, v] : *f) {
+      try {
+        assign(base_root, std::string(k.str()), v);
+      } catch (const PathError& e) {
+        throw Error(location(k.source()),
+                    "[fixed] '" + std::string(k.str()) + "': " + e.message + " (in " + base_path + ")");
+      }
+    }
+  }
+}
+
+namespace {
+
 /// The base file with the fixed settings (and one element-loop thread per sample) applied.
 std::shared_ptr<Study::Base> read_base(const toml::table& root, const StudySettings& ss) {
   auto base = std::make_shared<Study::Base>();
   base->root = io::parse_with_includes(ss.base_text, ss.base_path);
-  if (!ss.point) {
-    toml::value<int64_t> t(ss.threads);
-    if (!base->root.get("analysis")) base->root.insert("analysis", toml::table{});
-    try {
-      assign(base->root, "analysis.threads", t);
-    } catch (const PathError& e) {
-      throw Error(location(*ss.table), "[study] threads: " + e.message);
-    }
-  }
-  if (const auto* f = table_of(root, "fixed")) {
-    for (auto&& [k, v] : *f) {
-      try {
-        assign(base->root, std::string(k.str()), v);
-      } catch (const PathError& e) {
-        throw Error(location(k.source()),
-                    "[fixed] '" + std::string(k.str()) + "': " + e.message + " (in " + ss.base_path + ")");
-      }
-    }
-  }
+  apply_fixed(root, base->root, ss.base_path, ss.point, ss.threads, *ss.table);
   return base;
 }
 
-/// A parameter's path or paths (which must name numbers of the base file: p.integer says
-/// whether all are integers, where the value is set rather than scaled).
-void read_paths(const toml::table& t, const std::string& ctx, const std::string& key, toml::table& base_root,
-                const std::string& base_path, Parameter& p) {
+} // namespace
+
+void detail::read_paths(const toml::table& t, const std::string& ctx, const std::string& key,
+                        toml::table& base_root, const std::string& base_path, Parameter& p) {
   if (t.get("path") && t.get("paths"))
     throw Error(location(*t.get("paths")), ctx + " give path or paths, not both");
   if (t.get("path")) {
@@ -211,6 +228,8 @@ void read_paths(const toml::table& t, const std::string& ctx, const std::string&
     }
   }
 }
+
+namespace {
 
 /// A grid parameter's levels: values = [...], or levels equally spaced from low to high.
 void read_grid_values(const toml::table& t, const std::string& ctx, Parameter& p) {
@@ -296,15 +315,9 @@ Parameter read_parameter(const toml::table& t, std::size_t i, const StudySetting
   return p;
 }
 
-/// What a quantity of a scene study may read: the pile curve's columns, and "<recorder>.<column>"
-/// for every recorder of the base scene but an interface's (its rows are points, not steps),
-/// with the base scene's stage names.
-struct StudyColumns {
-  std::vector<std::string> allowed;
-  std::vector<std::string> stages;
-};
+} // namespace
 
-StudyColumns scene_study_columns(const toml::table& base) {
+StudyColumns detail::scene_study_columns(const toml::table& base) {
   StudyColumns c;
   c.allowed = scene_columns;
   // The settlement components of a pile whose cells the scene names ([output] pile_cells), the
@@ -324,6 +337,22 @@ StudyColumns scene_study_columns(const toml::table& base) {
     if (const auto* n = st->get("name"); n && n->is_string()) c.stages.push_back(n->as_string()->get());
   return c;
 }
+
+int detail::stage_index(const toml::table& t, const std::string& key, const std::string& ctx,
+                        const StudyColumns& columns) {
+  const std::string name = text(t, key, ctx);
+  const auto it = std::find(columns.stages.begin(), columns.stages.end(), name);
+  if (it == columns.stages.end()) {
+    std::string list;
+    for (const auto& n : columns.stages) list += (list.empty() ? "" : ", ") + n;
+    throw Error(location(*t.get(key)), ctx + " " + key + " = \"" + name +
+                                           "\" is not a stage of the base scene; its stages: " +
+                                           (list.empty() ? "(none named)" : list));
+  }
+  return static_cast<int>(it - columns.stages.begin()) + 1;
+}
+
+namespace {
 
 /// The [[quantities]] entry i; its columns go into `names`.
 Quantity read_quantity(const toml::table& t, std::size_t i, bool point, const StudyColumns& columns,
@@ -361,19 +390,10 @@ Quantity read_quantity(const toml::table& t, std::size_t i, bool point, const St
         throw Error(location(*t.get(k)), ctx + " " + k + " is only for the types curve, last, max and min");
   }
   if (const toml::node* st = t.get("stage")) {
-    const std::string name = text(t, "stage", ctx);
     if (!recorder_column(q.y) || (!q.x.empty() && !recorder_column(q.x)))
       throw Error(location(*st), ctx + " stage acts only on recorder columns (\"<recorder>.<column>\"); the "
                                        "pile curve's load and settlement are those of its loaded stages");
-    const auto it = std::find(columns.stages.begin(), columns.stages.end(), name);
-    if (it == columns.stages.end()) {
-      std::string list;
-      for (const auto& n : columns.stages) list += (list.empty() ? "" : ", ") + n;
-      throw Error(location(*st), ctx + " stage = \"" + name +
-                                     "\" is not a stage of the base scene; its stages: " +
-                                     (list.empty() ? "(none named)" : list));
-    }
-    q.stage = static_cast<int>(it - columns.stages.begin()) + 1;
+    q.stage = stage_index(t, "stage", ctx, columns);
   }
   if (q.kind == Quantity::Kind::curve) {
     if (!t.get("at"))
@@ -469,17 +489,6 @@ std::vector<Sample> random_samples(const std::vector<Parameter>& params, Design 
   return samples;
 }
 
-/// The study's hash (hex FNV-1a of the study text, the base text and the samples.csv header).
-std::string study_hash(const std::string& text_in, const std::string& base_text, const std::string& header) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  h = fnv1a(h, text_in);
-  h = fnv1a(h, base_text);
-  h = fnv1a(h, header);
-  char hex[20];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
-  return hex;
-}
-
 } // namespace
 
 Study Study::from_file(const std::string& path) {
@@ -523,7 +532,7 @@ Study Study::from_string(const std::string& text_in, const std::string& path) {
   else
     st.samples_ = random_samples(st.params_, st.design_, ss.n_samples, ss.seed);
   st.base_ = std::move(base);
-  st.hash_ = study_hash(text_in, ss.base_text, st.header());
+  st.hash_ = hash_of({text_in, ss.base_text, st.header()});
   return st;
 }
 
