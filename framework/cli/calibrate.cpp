@@ -21,6 +21,7 @@
 
 #include "mpi.hpp"
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -140,7 +141,16 @@ int manager(const BackAnalysis& ba, const fs::path& out, const MpiSession& mpi) 
     throw;
   }
   const std::size_t before = journal->size();
-  const auto runner = sweep::journaled(*journal, rank_runner(ba, mpi));
+  // Test hook (tests/calibrate/run.sh): STRATUM_CALIBRATE_KILL_AFTER=N kills this process
+  // (SIGKILL) once N runs have been journaled, to test the resume as a crash leaves it.
+  const char* kill_env = std::getenv("STRATUM_CALIBRATE_KILL_AFTER");
+  const std::size_t kill_after = kill_env ? static_cast<std::size_t>(std::strtoul(kill_env, nullptr, 10)) : 0;
+  const auto journaled = sweep::journaled(*journal, rank_runner(ba, mpi));
+  const sweep::BatchRunner runner = [&](const std::vector<std::vector<double>>& batch) {
+    auto out = journaled(batch);
+    if (kill_after && journal->size() - before >= kill_after) std::raise(SIGKILL);
+    return out;
+  };
   std::cerr << "calibrate: " << ba.parameters().size() << " parameters, " << ba.points()
             << " measured points, " << mpi.size() << (mpi.size() == 1 ? " process" : " processes")
             << (before ? ", " + std::to_string(before) + " runs in the journal" : std::string()) << "\n";
@@ -172,7 +182,8 @@ int manager(const BackAnalysis& ba, const fs::path& out, const MpiSession& mpi) 
     write_file_atomically((out / ("fitted_" + ds.name + ".csv")).string(), csv);
   }
   std::cout << sweep::report_files(ba, r).at("report.md");
-  std::cout << "\nruns: " << r.runs << " asked for, " << journal->reused() << " taken from the journal\n"
+  std::cout << "\nruns: " << r.runs << " asked for, " << journal->size() - before << " run now, "
+            << journal->reused() << " answered from the journal of an earlier start\n"
             << "results: " << (out / "parameters.csv").string() << ", " << (out / "report.md").string()
             << "\n";
   return 0;
