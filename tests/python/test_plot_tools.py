@@ -1,4 +1,4 @@
-"""Tests of tools/plot_pile.py and of the geometry of tools/plastic_zone_paraview.py (run by CTest
+"""Tests of tools/plot_pile.py, tools/plot_calibration.py and of the geometry of tools/plastic_zone_paraview.py (run by CTest
 with /usr/bin/python3; plot_pile needs matplotlib, python3-matplotlib in tools/setup.sh). The
 ParaView part of plastic_zone_paraview.py is not run here: it needs a ParaView (tools/README.md)."""
 import contextlib
@@ -14,6 +14,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "tools"))
 import plastic_zone_paraview as pzp  # noqa: E402
 import plot_pile as pp  # noqa: E402
+import plot_calibration as pc  # noqa: E402
 import plot_sweep as ps  # noqa: E402
 
 PNGS = ["load_settlement.png", "axial_force.png", "shaft_traction.png", "shaft_normal_traction.png",
@@ -211,6 +212,43 @@ class SweepTables(unittest.TestCase):
         self.assertEqual(t[2], "| 5 % | 1.50 | 15.00 |")
         self.assertEqual(t[3], "| 50 % | 6.00 | 60.00 |")
         self.assertEqual(t[4], "| 95 % | 10.50 | stopped |")
+
+
+class PlotCalibration(unittest.TestCase):
+    """plot_calibration.py: one panel per data set, the title from parameters.csv."""
+
+    def folder(self, d):
+        write(os.path.join(d, "parameters.csv"),
+              "name,start,lower,upper,log,value,standard_error,relative_standard_error,ci95_low,ci95_high,"
+              "determined,at_bound\n"
+              "A,2,0.1,10,true,0.5,inf,inf,-inf,inf,false,false\n"
+              "E,6e4,2e3,2e5,true,25118.4,141.3,0.0056,24786.6,25454.7,true,false\n")
+        write(os.path.join(d, "residuals.csv"),
+              "data,line,x,measured,computed,weight,residual\n"
+              "head,5,15,0.27,0.26,1,-0.01\nhead,6,30,0.52,0.51,1,-0.01\n"
+              "base,4,15,0.1,0.11,2,0.02\n")
+        write(os.path.join(d, "fitted_head.csv"), "load,settlement\n0,0\n15,0.26\n30,0.51\n")
+        write(os.path.join(d, "fitted_base.csv"), "load,base_settlement\n0,0\n15,0.11\n")
+
+    def test_title_gives_intervals_and_says_not_determined(self):
+        rows = [{"name": "A", "value": "0.5", "determined": "false", "ci95_low": "-inf", "ci95_high": "inf"},
+                {"name": "E", "value": "25118.4", "determined": "true", "ci95_low": "24786.6",
+                 "ci95_high": "25454.7"}]
+        self.assertEqual(pc.title(rows), "A = 0.5 (not determined), E = 2.512e+04 (2.479e+04 to 2.545e+04)")
+
+    def test_one_png_with_a_panel_per_data_set(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.folder(d)
+            self.assertEqual(list(pc.data_sets(pc.read(os.path.join(d, "residuals.csv")))), ["head", "base"])
+            with contextlib.redirect_stdout(io.StringIO()):
+                pc.main([d])
+            self.assertGreater(os.path.getsize(os.path.join(d, "calibration.png")), 10000)
+
+    def test_a_folder_without_results_is_refused(self):
+        with tempfile.TemporaryDirectory() as d:
+            with self.assertRaises(SystemExit) as e:
+                pc.main([d])
+            self.assertIn("has no residuals.csv", str(e.exception))
 
 
 if __name__ == "__main__":
