@@ -27,8 +27,8 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string src = STRATUM_SOURCE_DIR;
-const std::string pile = src + "/inputs/studies/elastic_pile.toml";
-const std::string footing = src + "/inputs/studies/strip_footing_mohr_coulomb.toml";
+const std::string pile = src + "/inputs/examples/elastic_pile.toml";
+const std::string footing = src + "/inputs/examples/strip_footing_mohr_coulomb.toml";
 
 struct Env {
   Env() { setenv("STRATUM_PLUGIN_PATH", STRATUM_PLUGIN_DIR, 1); }

@@ -20,7 +20,7 @@ using namespace stratum::sweep;
 namespace {
 
 const std::string src = STRATUM_SOURCE_DIR;
-const std::string pile = src + "/inputs/studies/elastic_pile.toml";
+const std::string pile = src + "/inputs/examples/elastic_pile.toml";
 
 /// A study of the elastic pile (absolute base path), from the given design and parameter blocks.
 Study pile_study(const std::string& study_table, const std::string& rest) {
