@@ -12,6 +12,7 @@ STRATUM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 STRATUM_BUILD="${STRATUM_BUILD:-$STRATUM_ROOT/build/release}"
 STRATUM_PACKAGES=(cmake ninja-build g++ gfortran pkg-config libeigen3-dev libboost-dev libboost-filesystem-dev libboost-serialization-dev libvtk9-dev
   libsundials-dev libtomlplusplus-dev libceres-dev catch2 libsuitesparse-dev libopenblas0-pthread python3-matplotlib python3-vtk9
+  python3-dev pybind11-dev python3-numpy python3-pytest # import stratum (docs/python.md)
   libopenmpi-dev openmpi-bin
   clang libclang-rt-14-dev llvm # tools/ci_sanitize: sanitizers, libFuzzer, llvm-symbolizer for the reports
   clang-format clang-tidy-22 git # tools/check_format, tools/check_tidy (docs/testing.md, "Style and tidy checks")
