@@ -8,7 +8,7 @@
 //       Ctrl-C (KeyboardInterrupt) ends the run at its next step, writes what was computed (as
 //       SIGINT does for `stratum run`) and is raised again.
 //   check(path=None, text=None, overrides=None)  -> the reader's warnings
-//   point(path)                                  -> the material-point driver's path
+//   point(path=None, text=None, overrides=None)  -> the material-point driver's path
 //   plugins()                                    -> {kind: [names]}
 //   calibrate(path, out=None, progress=None)     -> the result of `stratum calibrate` (one process)
 //   Error: a located input error, with .file, .line, .column and .message.
@@ -229,12 +229,15 @@ py::list check(const std::optional<std::string>& path, const std::optional<std::
   return w;
 }
 
-py::dict point(const std::string& path) {
+py::dict point(const std::optional<std::string>& path, const std::optional<std::string>& text,
+               const py::dict& overrides) {
+  const auto [body, where] = scene_source(path, text, overrides);
   std::unique_ptr<stratum::PointDriver> d;
   stratum::PointRun r;
   {
     py::gil_scoped_release release;
-    d = stratum::PointDriver::from_file(path);
+    d = path && overrides.empty() ? stratum::PointDriver::from_file(*path)
+                                  : stratum::PointDriver::from_string(body, where);
     r = d->run();
   }
   std::vector<std::array<double, 6>> e, s;
@@ -352,7 +355,8 @@ PYBIND11_MODULE(_stratum, m) {
         py::arg("overrides") = py::dict());
   m.def("scene_text", &scene_text, py::arg("path") = py::none(), py::arg("text") = py::none(),
         py::arg("overrides") = py::dict());
-  m.def("point", &point, py::arg("path"));
+  m.def("point", &point, py::arg("path") = py::none(), py::arg("text") = py::none(),
+        py::arg("overrides") = py::dict());
   m.def("plugins", &plugins);
   m.def("calibrate", &calibrate, py::arg("path"), py::arg("out") = py::none(),
         py::arg("progress") = py::none());

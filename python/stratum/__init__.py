@@ -17,7 +17,8 @@ import os
 import tomllib
 import xml.etree.ElementTree as ET
 
-from ._stratum import Error, calibrate, check, plugins, point, scene_text
+from ._stratum import Error, calibrate, check, plugins, scene_text
+from ._stratum import point as _point
 from ._stratum import run as _run
 
 __all__ = ["Error", "Result", "Results", "calibrate", "check", "plugins", "point", "read_results", "run",
@@ -47,6 +48,13 @@ def run(path=None, *, text=None, overrides=None, out=None, write_output=True, pr
     a Result. progress(step, steps, load_factor) is called after every accepted step."""
     return Result(_run(path=path, text=text, overrides=overrides or {}, out=out, write_output=write_output,
                        progress=progress))
+
+
+def point(path=None, *, text=None, overrides=None):
+    """Runs a point file (stratum point) with optional overrides and returns a dict: step, strain
+    and stress as (n, 6) arrays (xx, yy, zz, xy, yz, zx; engineering shear strains; stresses
+    tension positive in the file's units), status and message."""
+    return _point(path=path, text=text, overrides=overrides or {})
 
 
 def _numbers(rows, columns):
