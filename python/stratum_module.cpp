@@ -10,6 +10,7 @@
 //   check(path=None, text=None, overrides=None)  -> the reader's warnings
 //   point(path=None, text=None, overrides=None)  -> the material-point driver's path
 //   plugins()                                    -> {kind: [names]}
+//   sweep(path, out=None, progress=None)         -> the samples of `stratum sweep` (one process)
 //   calibrate(path, out=None, progress=None)     -> the result of `stratum calibrate` (one process)
 //   Error: a located input error, with .file, .line, .column and .message.
 #include "stratum/analysis.hpp"
@@ -21,6 +22,7 @@
 #include "files.hpp"
 #include "scene/toml_check.hpp"
 #include "sweep/back_analysis.hpp"
+#include "sweep/sweep.hpp"
 #include "sweep/sweep_toml.hpp"
 
 #include <pybind11/functional.h>
@@ -327,6 +329,44 @@ py::dict calibrate(const std::string& path, const std::optional<std::string>& ou
   return d;
 }
 
+/// `stratum sweep` on this process: every sample in order; returns the header, the rows (as
+/// samples.csv has them) and writes samples.csv to `out` when given.
+py::dict sweep(const std::string& path, const std::optional<std::string>& out, const py::object& progress) {
+  namespace sw = stratum::sweep;
+  const sw::Study study = sw::Study::from_file(path);
+  const std::string dir = out ? *out : std::string();
+  py::list rows, status;
+  std::string csv = study.header() + "\n";
+  std::optional<py::error_already_set> pending;
+  const auto n = study.samples().size();
+  for (std::size_t i = 0; i < n && !pending; ++i) {
+    sw::SampleResult r;
+    {
+      py::gil_scoped_release release;
+      r = study.run(static_cast<int>(i), dir);
+    }
+    csv += r.row + "\n";
+    rows.append(r.row);
+    status.append(r.status);
+    if (PyErr_CheckSignals() != 0) pending.emplace(); // Ctrl-C between samples
+    if (!pending && !progress.is_none()) {
+      try {
+        progress(static_cast<int>(i) + 1, static_cast<int>(n), r.status);
+      } catch (py::error_already_set& e) {
+        pending.emplace(std::move(e));
+      }
+    }
+  }
+  if (pending) throw std::move(*pending);
+  if (out) stratum::write_file_atomically((fs::path(dir) / "samples.csv").string(), csv);
+  py::dict d;
+  d["header"] = study.header();
+  d["rows"] = rows;
+  d["status"] = status;
+  d["csv"] = csv;
+  return d;
+}
+
 } // namespace
 
 PYBIND11_MODULE(_stratum, m) {
@@ -358,6 +398,7 @@ PYBIND11_MODULE(_stratum, m) {
   m.def("point", &point, py::arg("path") = py::none(), py::arg("text") = py::none(),
         py::arg("overrides") = py::dict());
   m.def("plugins", &plugins);
+  m.def("sweep", &sweep, py::arg("path"), py::arg("out") = py::none(), py::arg("progress") = py::none());
   m.def("calibrate", &calibrate, py::arg("path"), py::arg("out") = py::none(),
         py::arg("progress") = py::none());
 }

@@ -18,11 +18,12 @@ import tomllib
 import xml.etree.ElementTree as ET
 
 from ._stratum import Error, calibrate, check, plugins, scene_text
+from ._stratum import sweep as _sweep
 from ._stratum import point as _point
 from ._stratum import run as _run
 
 __all__ = ["Error", "Result", "Results", "calibrate", "check", "plugins", "point", "read_results", "run",
-           "scene_text"]
+           "scene_text", "sweep"]
 
 
 class Result:
@@ -55,6 +56,28 @@ def point(path=None, *, text=None, overrides=None):
     and stress as (n, 6) arrays (xx, yy, zz, xy, yz, zx; engineering shear strains; stresses
     tension positive in the file's units), status and message."""
     return _point(path=path, text=text, overrides=overrides or {})
+
+
+def sweep(path, *, out=None, progress=None):
+    """Runs a study file (stratum sweep) on this process, sample after sample, and returns its
+    table as {column: numpy array} (text columns such as status and reason as lists), the rows of
+    samples.csv under "csv". With out=DIR, samples.csv is written there (and per-sample output when
+    the study asks for it). progress(done, total, status) after every sample; Ctrl-C stops
+    between samples. For MPI and the journal use the command line (docs/sweep.md)."""
+    import numpy as np
+
+    d = _sweep(path, out=out, progress=progress)
+    reader = csv.DictReader(d["csv"].splitlines())
+    rows = list(reader)
+    table = {}
+    for c in reader.fieldnames:
+        cells = [r[c] for r in rows]
+        try:
+            table[c] = np.array([float(v) if v != "" else float("nan") for v in cells])
+        except ValueError:
+            table[c] = cells
+    table["csv"] = d["csv"]
+    return table
 
 
 def _numbers(rows, columns):

@@ -127,6 +127,16 @@ def test_calibrate_from_python_equals_the_command_line(tmp_path):
     assert (tmp_path / "py" / "parameters.csv").read_text() == (tmp_path / "cli" / "parameters.csv").read_text()
 
 
+def test_a_sweep_from_python_gives_the_command_line_samples(tmp_path):
+    study = os.path.join(ROOT, "tests", "sweep", "lhs.toml")
+    t = stratum.sweep(study, out=str(tmp_path / "py"))
+    subprocess.run([EXE, "sweep", study, "--out", str(tmp_path / "cli")], check=True, capture_output=True,
+                   env=dict(os.environ, STRATUM_PLUGIN_PATH=""))
+    assert (tmp_path / "py" / "samples.csv").read_text() == (tmp_path / "cli" / "samples.csv").read_text()
+    assert list(t["index"]) == list(range(10))
+    assert t["status"].count("failed") == 3  # the study's three samples with nu = 0.5
+
+
 def test_plugins_lists_the_kinds():
     p = stratum.plugins()
     assert "linear_elastic" in p["material"] and "newton" in p["solver"]
