@@ -528,12 +528,13 @@ TEST_CASE("recorders write the quantities asked for, and a scene's [[checks]] de
   CHECK(ok.code == 0);
   CHECK(ok.out.find("check inner.ux = ") != std::string::npos);
   CHECK(ok.out.find(": pass\n") != std::string::npos);
-  // history/inner.csv: stage,step,lambda,ux; its last row against the closed form.
+  // history/inner.csv: stage,step,lambda,ux_m (each quantity with its unit); its last row against
+  // the closed form.
   {
     std::ifstream csv(scratch() / "lame_checks" / "history" / "inner.csv");
     std::string line, last;
     std::getline(csv, line);
-    CHECK(line == "stage,step,lambda,ux");
+    CHECK(line == "stage,step,lambda,ux_m");
     int rows = 0;
     while (std::getline(csv, line)) last = line, ++rows;
     CHECK(rows == 2); // the start (step 0) and the one load step

@@ -108,27 +108,29 @@ TEST_CASE("interface recorder, C2 column: normal traction -q and opening -q/k_n 
       CHECK(c.pass);
     }
     const Csv csv = read_csv(out / "history" / "base.csv");
-    CHECK(csv.header == std::vector<std::string>{"stage", "step", "lambda", "s", "x", "y", "shear_traction",
-                                                 "normal_traction", "slip", "opening", "status"});
+    // Each column with its unit (kN, m, kPa), as the curves' columns are.
+    CHECK(csv.header == std::vector<std::string>{"stage", "step", "lambda", "s_m", "x_m", "y_m",
+                                                 "shear_traction_kPa", "normal_traction_kPa", "slip_m",
+                                                 "opening_m", "status"});
     const auto last = csv.last_step();
     REQUIRE(last.size() >= 3);                 // the 3-node edge: 3 node pairs, or the line element's points
     CHECK(csv.rows.size() == 2 * last.size()); // the start (step 0) and the one load step
     for (std::size_t i = 0; i < last.size(); ++i) {
       const auto& r = last[i];
-      CAPTURE(i, r[csv.col("x")]);
+      CAPTURE(i, r[csv.col("x_m")]);
       CHECK(r[csv.col("lambda")] == 1.0);
-      CHECK(std::abs(r[csv.col("normal_traction")] + s.q) < 1e-6 * s.q);
-      CHECK(std::abs(r[csv.col("opening")] + s.q / s.kn) < 1e-6 * s.q / s.kn);
-      CHECK(std::abs(r[csv.col("shear_traction")]) < 1e-6 * s.q);
-      CHECK(std::abs(r[csv.col("slip")]) < 1e-9);
+      CHECK(std::abs(r[csv.col("normal_traction_kPa")] + s.q) < 1e-6 * s.q);
+      CHECK(std::abs(r[csv.col("opening_m")] + s.q / s.kn) < 1e-6 * s.q / s.kn);
+      CHECK(std::abs(r[csv.col("shear_traction_kPa")]) < 1e-6 * s.q);
+      CHECK(std::abs(r[csv.col("slip_m")]) < 1e-9);
       CHECK(r[csv.col("status")] == 0.0); // stick
-      CHECK(r[csv.col("y")] == Approx(0.0).margin(1e-12));
+      CHECK(r[csv.col("y_m")] == Approx(0.0).margin(1e-12));
       // Ordered along the base from its end nearest the set's first point: s is the distance
       // walked, here (a straight edge) the distance from the first row.
-      CHECK(r[csv.col("s")] == Approx(std::abs(r[csv.col("x")] - last[0][csv.col("x")])).margin(1e-12));
-      if (i > 0) CHECK(r[csv.col("s")] > last[i - 1][csv.col("s")]);
+      CHECK(r[csv.col("s_m")] == Approx(std::abs(r[csv.col("x_m")] - last[0][csv.col("x_m")])).margin(1e-12));
+      if (i > 0) CHECK(r[csv.col("s_m")] > last[i - 1][csv.col("s_m")]);
     }
-    CHECK(last.back()[csv.col("s")] <= s.b + 1e-12);
+    CHECK(last.back()[csv.col("s_m")] <= s.b + 1e-12);
     // A wrong expectation fails, at the worst point.
     std::string bad = t.str();
     bad.replace(bad.find("expected = " + std::to_string(static_cast<int>(-s.q))), 15, "expected = -101");
@@ -155,18 +157,18 @@ TEST_CASE("interface recorder, C1 pile shaft after slip: |shear traction| = tau_
   // The slip: the pile's w_max less the soil's displacement at r0 (concentric cylinders).
   const double slip = s.w_max() - s.tau_max * s.r0 * s.zeta() / s.G();
   for (const auto& r : last) {
-    CAPTURE(r[csv.col("y")], r[csv.col("shear_traction")], r[csv.col("slip")], slip);
-    CHECK(std::abs(r[csv.col("shear_traction")]) == Approx(s.tau_max).epsilon(1e-6));
+    CAPTURE(r[csv.col("y_m")], r[csv.col("shear_traction_kPa")], r[csv.col("slip_m")], slip);
+    CHECK(std::abs(r[csv.col("shear_traction_kPa")]) == Approx(s.tau_max).epsilon(1e-6));
     CHECK(r[csv.col("status")] == 1.0); // slipping
-    CHECK(r[csv.col("x")] == Approx(s.r0).margin(1e-12));
+    CHECK(r[csv.col("x_m")] == Approx(s.r0).margin(1e-12));
     // The jump u(pile) - u(soil) along the shaft (it includes the interface's elastic part
     // tau / k_s); 1e-3: the soil's displacement at r0 is a finite-element value (3e-5 found).
-    CHECK(std::abs(r[csv.col("slip")]) == Approx(slip).epsilon(1e-3));
+    CHECK(std::abs(r[csv.col("slip_m")]) == Approx(slip).epsilon(1e-3));
   }
   // Along the shaft: s runs over its length L.
-  CHECK(last.front()[csv.col("s")] < 0.1 * s.L);
-  CHECK(last.back()[csv.col("s")] > 0.9 * s.L);
-  CHECK(last.back()[csv.col("s")] <= s.L + 1e-12);
+  CHECK(last.front()[csv.col("s_m")] < 0.1 * s.L);
+  CHECK(last.back()[csv.col("s_m")] > 0.9 * s.L);
+  CHECK(last.back()[csv.col("s_m")] <= s.L + 1e-12);
 }
 
 TEST_CASE("interface recorder: an unknown interface is one located line", "[recorders][contact]") {

@@ -44,8 +44,9 @@ def test_the_pile_curve_equals_its_csv_to_the_last_digit(tmp_path):
 def test_recorders_equal_their_csv_and_the_series_is_listed(tmp_path):
     r = stratum.run(FOOTING, out=str(tmp_path / "f"))
     cols = csv_columns(tmp_path / "f" / "history" / "footing.csv")
-    for c in ("lambda", "uy", "ry"):
-        assert ["%.12g" % v for v in r.recorders["footing"][c]] == cols[c]
+    # The CSV names each column with its unit (plane strain: a reaction per metre of the strip).
+    for c, written in (("lambda", "lambda"), ("uy", "uy_m"), ("ry", "ry_kN_per_m")):
+        assert ["%.12g" % v for v in r.recorders["footing"][c]] == cols[written]
     # Linear elasticity: the reaction is proportional to the settlement.
     ry, uy = r.recorders["footing"]["ry"][1:], r.recorders["footing"]["uy"][1:]
     assert np.allclose(ry / uy, ry[-1] / uy[-1], rtol=1e-9)

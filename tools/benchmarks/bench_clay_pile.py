@@ -82,8 +82,8 @@ def main():
              "6": "drained_load"}
     ends = {}
     for r in head:
-        ends[r["stage"]] = float(r["uy"])
-    drained_p = max((abs(float(r["p"])) for r in shaft if r["stage"] == "6"), default=float("nan"))
+        ends[r["stage"]] = float(r["uy_m"])
+    drained_p = max((abs(float(r["p_kPa"])) for r in shaft if r["stage"] == "6"), default=float("nan"))
     stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     md = ["## The bored pile in soft clay (`bench_clay_pile.py`)\n",
           f"{stamp}, load average {os.getloadavg()[0]:.1f} at the start, {os.cpu_count()} cores; "

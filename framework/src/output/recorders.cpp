@@ -333,13 +333,20 @@ void Recorder::sample(const Model& m, int stage, int step, double lambda, int it
   rows_.push_back(std::move(r));
 }
 
-std::string Recorder::csv() const {
+std::string recorder_column(const std::string& quantity, const Units& units, Formulation formulation) {
+  std::string unit = recorder_quantity_unit(quantity);
+  if (unit == "-") return quantity;
+  if ((quantity == "rx" || quantity == "ry") && formulation == Formulation::plane_strain) unit = "kN/m";
+  return units.column(quantity, unit);
+}
+
+std::string Recorder::csv(const Units& units, Formulation formulation) const {
   std::ostringstream o;
   // Every row starts with stage, step and lambda: a `lambda` quantity (kind global) is that
   // column already and is not written twice.
   o << std::setprecision(12) << "stage,step,lambda";
   for (const auto& q : quantities_)
-    if (q != "lambda") o << ',' << q;
+    if (q != "lambda") o << ',' << recorder_column(q, units, formulation);
   o << '\n';
   for (const auto& r : rows_) {
     o << r.stage << ',' << r.step << ',' << r.lambda;

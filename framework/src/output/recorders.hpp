@@ -6,6 +6,7 @@
 #include "scene/recorder_spec.hpp"
 #include "stratum/analysis.hpp"
 #include "stratum/model.hpp"
+#include "stratum/units.hpp"
 
 #include <string>
 #include <vector>
@@ -36,8 +37,10 @@ public:
   /// Samples the model's converged state (reactions already updated); `time` is the analysis time
   /// it is reached at (one unit per static stage, the seconds of consolidation stages; the VTK time).
   void sample(const Model& model, int stage, int step, double lambda, int iterations, double time);
-  /// The CSV text: stage,step,lambda,<quantities>.
-  [[nodiscard]] std::string csv() const;
+  /// The CSV text: stage,step,lambda,<quantities>, each quantity's column named with its unit in
+  /// the scene's units as the curves are (recorder_column: uy_m, ry_kN_per_m, sxx_kPa; a
+  /// dimensionless quantity keeps its name).
+  [[nodiscard]] std::string csv(const Units& units, Formulation formulation) const;
 
 private:
   std::string name_, kind_, set_;
@@ -52,6 +55,13 @@ private:
   double last_mean_ = std::numeric_limits<double>::quiet_NaN();
   double stage_start_mean_ = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// A recorder quantity's CSV column: its name and its unit in the scene's units ("uy", m -> uy_m;
+/// "ry" -> ry_kN in axisymmetry, where a reaction is the whole ring's, and ry_kN_per_m in plane
+/// strain, per unit thickness); a dimensionless quantity (lambda, strains, status, iterations, U)
+/// and the analysis time (a stage counter in static stages) keep their names.
+[[nodiscard]] std::string recorder_column(const std::string& quantity, const Units& units,
+                                          Formulation formulation);
 
 /// The pore water at one integration point: the steady and the excess pore pressure (kPa,
 /// compression positive) and the effective and total stress (tension positive; total = effective -

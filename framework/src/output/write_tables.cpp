@@ -22,7 +22,8 @@ void write_tables(const RunView& run, const RunSummary& summary, const std::vect
   const auto& axial_rows = run.state.axial_rows;
   const auto& shaft_rows = run.state.shaft_rows;
   for (const auto& r : recorders)
-    write_file_atomically((fs::path(summary.out_dir) / "history" / (r.name() + ".csv")).string(), r.csv());
+    write_file_atomically((fs::path(summary.out_dir) / "history" / (r.name() + ".csv")).string(),
+                          r.csv(run.units, m.formulation));
   if (live.empty()) {
     write_step_records((fs::path(summary.out_dir) / "diagnostics.csv").string(), summary.records);
   } else {
