@@ -136,6 +136,28 @@ TEST_CASE("calibrate (a): every modulus of the elastic pile by a factor f: the e
   CHECK(r.low95[0] < f_true);
   CHECK(r.high95[0] > f_true);
   CHECK(r.converged);
+
+  SECTION("forward differences reach the same estimate; two iterations are reported as not converged") {
+    const auto with = [&](const std::string& settings) {
+      return BackAnalysis::from_string(
+          pile_calibration(params, data)
+              .replace(pile_calibration(params, data).find("\n\n"), 2, "\n" + settings + "\n\n"),
+          "a.toml");
+    };
+    const BackAnalysis fw = with("differences = \"forward\"");
+    CHECK_FALSE(fw.settings().central);
+    Journal j1("", fw.hash(), 1, fw.points());
+    const FitResult rf = calibrate(fw, journaled(j1, local(fw)));
+    CHECK(rf.best[0] == Approx(f_hat).epsilon(1e-6));
+    CHECK(rf.se_z[0] == Approx(sigma / std::sqrt(jj)).epsilon(1e-2)); // a one-sided difference: first order
+    const BackAnalysis two = with("max_iterations = 2");
+    Journal j2("", two.hash(), 1, two.points());
+    const FitResult r2 = calibrate(two, journaled(j2, local(two)));
+    CHECK_FALSE(r2.converged);
+    CHECK(r2.iterations == 2);
+    REQUIRE_FALSE(r2.notes.empty());
+    CHECK_THAT(r2.notes[0], Catch::Contains("did not converge"));
+  }
 }
 
 TEST_CASE("calibrate (a): the elastic pile's soil modulus is recovered inside its 95 % interval",
