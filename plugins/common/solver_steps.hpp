@@ -105,8 +105,10 @@ inline StepReport& fail(StepReport& rep, Outcome o) {
 }
 
 /// The parameters every Newton-type solver takes: divergence_factor and line_search (what
-/// line_search = 0 means is `line_search_off`, as the solver's help words it).
-[[nodiscard]] inline Schema newton_parameters(std::string_view line_search_off) {
+/// line_search = 0 means is `line_search_off`, as the solver's help words it; its default is the
+/// solver's: newton 4, measured in plugins/newton/README.md, the modified schemes 0).
+[[nodiscard]] inline Schema newton_parameters(std::string_view line_search_off,
+                                              long long line_search_default = 0) {
   Schema s;
   s.real("divergence_factor", "-", "stop when |R| exceeds this multiple of the first residual")
       .greater_than(1)
@@ -116,7 +118,7 @@ inline StepReport& fail(StepReport& rep, Outcome o) {
                 std::string(line_search_off) + ")")
       .at_least(0)
       .at_most(30)
-      .defaults_to(0LL);
+      .defaults_to(line_search_default);
   return s;
 }
 

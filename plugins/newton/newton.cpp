@@ -116,7 +116,9 @@ private:
 } // namespace
 
 STRATUM_PLUGIN(registry) {
-  Schema s = solver_steps::newton_parameters("plain Newton");
+  // Backtracking on by default (4 halvings): without it the plasticity scenes cut back many
+  // times and the loess pile stops at a spurious collapse (plugins/newton/README.md, measured).
+  Schema s = solver_steps::newton_parameters("plain Newton", 4);
   s.integer("stall_iterations", "-",
             "contraction test: stop (and let the step be cut back) when |R| has not fallen below "
             "stall_factor times its value this many iterations before; 0: off (only max_iterations)")
