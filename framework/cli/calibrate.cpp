@@ -169,8 +169,8 @@ int manager(const BackAnalysis& ba, const fs::path& out, const MpiSession& mpi) 
     throw;
   }
   stop_workers(mpi);
-  for (const auto& [name, text] : sweep::report_files(ba, r))
-    write_file_atomically((out / name).string(), text);
+  const auto files = sweep::report_files(ba, r);
+  for (const auto& [name, text] : files) write_file_atomically((out / name).string(), text);
   // The run at the best values with its own output, and each data set's whole computed curve.
   std::vector<std::vector<std::array<double, 2>>> curves;
   (void)ba.evaluate(r.best, (out / "best").string(), &curves);
@@ -181,7 +181,7 @@ int manager(const BackAnalysis& ba, const fs::path& out, const MpiSession& mpi) 
       csv += sweep::format_number(xy[0]) + "," + sweep::format_number(xy[1]) + "\n";
     write_file_atomically((out / ("fitted_" + ds.name + ".csv")).string(), csv);
   }
-  std::cout << sweep::report_files(ba, r).at("report.md");
+  std::cout << files.at("report.md");
   std::cout << "\nruns: " << r.runs << " asked for, " << journal->size() - before << " run now, "
             << journal->reused() << " answered from the journal of an earlier start\n"
             << "results: " << (out / "parameters.csv").string() << ", " << (out / "report.md").string()

@@ -2,6 +2,7 @@
 // error located by file, line and column (stratum/calibration.hpp).
 #include "stratum/calibration.hpp"
 
+#include "csv_fields.hpp"
 #include "files.hpp"
 
 #include "stratum/error.hpp"
@@ -35,12 +36,7 @@ struct CsvTable {
   std::vector<CsvRow> rows;
 };
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return {};
-  const auto e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
+using csv::trim;
 
 std::string column_list(const std::vector<Column>& cols, bool required) {
   std::string s;
@@ -68,16 +64,7 @@ CsvTable read_csv(const std::string& path, const std::vector<Column>& cols) {
     // split, remembering where every field starts
     std::vector<std::string> fields;
     std::vector<int> starts;
-    std::size_t pos = 0;
-    while (true) {
-      const auto comma = raw.find(',', pos);
-      const std::string f = raw.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-      const auto lead = f.find_first_not_of(" \t");
-      starts.push_back(static_cast<int>(pos + (lead == std::string::npos ? 0 : lead)) + 1);
-      fields.push_back(trim(f));
-      if (comma == std::string::npos) break;
-      pos = comma + 1;
-    }
+    csv::split_fields(raw, fields, starts);
     if (!have_header) {
       have_header = true;
       for (std::size_t i = 0; i < fields.size(); ++i) {

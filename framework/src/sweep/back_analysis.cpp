@@ -3,6 +3,7 @@
 // back_analysis_fit.cpp.
 #include "sweep/back_analysis.hpp"
 
+#include "csv_fields.hpp"
 #include "files.hpp"
 #include "scene/toml_check.hpp"
 #include "sweep_study.hpp"
@@ -38,28 +39,6 @@ namespace {
 using namespace detail;
 using io::location;
 
-std::string trimmed(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return {};
-  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
-
-/// The fields of a CSV line and the 1-based column where each starts.
-void split_fields(const std::string& raw, std::vector<std::string>& fields, std::vector<int>& starts) {
-  fields.clear();
-  starts.clear();
-  std::size_t pos = 0;
-  while (true) {
-    const auto comma = raw.find(',', pos);
-    const std::string f = raw.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-    const auto lead = f.find_first_not_of(" \t");
-    starts.push_back(static_cast<int>(pos + (lead == std::string::npos ? 0 : lead)) + 1);
-    fields.push_back(trimmed(f));
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
-  }
-}
-
 /// Reads the measured points of a data set: the header row names the columns, '#' lines and
 /// blank lines are skipped, and so is a row whose x or y cell is empty (a gauge that did not
 /// read). The abscissae must be strictly monotonic.
@@ -74,9 +53,9 @@ void read_data_file(DataSet& d, const toml::table& t, const std::string& ctx, st
   while (std::getline(in, raw)) {
     ++line;
     if (line == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3); // a UTF-8 byte-order mark
-    const std::string s = trimmed(raw);
+    const std::string s = csv::trim(raw);
     if (s.empty() || s[0] == '#') continue;
-    split_fields(raw, fields, starts);
+    csv::split_fields(raw, fields, starts);
     if (!have_header) {
       header = fields;
       have_header = true;
@@ -266,19 +245,12 @@ BackAnalysis BackAnalysis::from_string(const std::string& text_in, const std::st
   only_keys(*c,
             {"scene", "point", "differences", "step", "max_iterations", "tolerance", "determined", "threads"},
             sc);
-  if (c->get("scene") && c->get("point"))
-    throw Error(location(*c->get("point")), sc + " names both a scene and a point file; give one");
-  if (!c->get("scene") && !c->get("point"))
-    throw Error(location(*c),
-                sc + " needs scene = \"FILE.toml\" (stratum run) or point = \"FILE.toml\" (stratum point)");
-  ba.point_ = c->get("point") != nullptr;
-  const std::string key = ba.point_ ? "point" : "scene";
+  const BaseFile bf = read_base_file(*c, sc, path);
+  ba.point_ = bf.point;
+  ba.base_path_ = bf.path;
+  const std::string& key = bf.key;
+  const std::string& base_text = bf.text;
   const fs::path dir = fs::path(path).parent_path();
-  const std::string base_rel = text(*c, key, sc);
-  ba.base_path_ =
-      (fs::path(base_rel).is_absolute() ? fs::path(base_rel) : dir / base_rel).lexically_normal().string();
-  const std::string base_text = read_text_file(ba.base_path_, location(*c->get(key)), key + " file",
-                                               ba.point_ ? file_limits::point : file_limits::scene);
   ba.settings_ = read_settings(*c, sc);
   auto base = std::make_shared<Base>();
   base->root = io::parse_with_includes(base_text, ba.base_path_);

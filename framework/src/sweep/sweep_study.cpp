@@ -123,19 +123,11 @@ StudySettings read_study_table(const toml::table& root, const std::string& path)
   r.table = s;
   const std::string sc = "[study]";
   only_keys(*s, {"scene", "point", "design", "samples", "seed", "sample_output", "threads"}, sc);
-  if (s->get("scene") && s->get("point"))
-    throw Error(location(*s->get("point")), sc + " names both a scene and a point file; give one");
-  if (!s->get("scene") && !s->get("point"))
-    throw Error(location(*s),
-                sc + " needs scene = \"FILE.toml\" (stratum run) or point = \"FILE.toml\" (stratum point)");
-  r.point = s->get("point") != nullptr;
-  r.key = r.point ? "point" : "scene";
-  const std::string base_rel = text(*s, r.key, sc);
-  const fs::path dir = fs::path(path).parent_path();
-  r.base_path =
-      (fs::path(base_rel).is_absolute() ? fs::path(base_rel) : dir / base_rel).lexically_normal().string();
-  r.base_text = read_text_file(r.base_path, location(*s->get(r.key)), r.key + " file",
-                               r.point ? file_limits::point : file_limits::scene);
+  BaseFile base = read_base_file(*s, sc, path);
+  r.point = base.point;
+  r.key = std::move(base.key);
+  r.base_path = std::move(base.path);
+  r.base_text = std::move(base.text);
   r.design = text(*s, "design", sc, {"one_at_a_time", "grid", "latin_hypercube", "monte_carlo"});
   r.kind = r.design == "one_at_a_time"     ? Design::one_at_a_time
            : r.design == "grid"            ? Design::grid
@@ -159,6 +151,23 @@ StudySettings read_study_table(const toml::table& root, const std::string& path)
 }
 
 } // namespace
+
+BaseFile detail::read_base_file(const toml::table& t, const std::string& ctx, const std::string& study_path) {
+  if (t.get("scene") && t.get("point"))
+    throw Error(location(*t.get("point")), ctx + " names both a scene and a point file; give one");
+  if (!t.get("scene") && !t.get("point"))
+    throw Error(location(t),
+                ctx + " needs scene = \"FILE.toml\" (stratum run) or point = \"FILE.toml\" (stratum point)");
+  BaseFile b;
+  b.point = t.get("point") != nullptr;
+  b.key = b.point ? "point" : "scene";
+  const std::string rel = text(t, b.key, ctx);
+  const fs::path dir = fs::path(study_path).parent_path();
+  b.path = (fs::path(rel).is_absolute() ? fs::path(rel) : dir / rel).lexically_normal().string();
+  b.text = read_text_file(b.path, location(*t.get(b.key)), b.key + " file",
+                          b.point ? file_limits::point : file_limits::scene);
+  return b;
+}
 
 void detail::apply_fixed(const toml::table& study_root, toml::table& base_root, const std::string& base_path,
                          bool point, long long threads, const toml::node& threads_where) {

@@ -77,6 +77,19 @@ void apply_values(toml::table& root, const std::vector<Parameter>& params, const
 void read_paths(const toml::table& t, const std::string& ctx, const std::string& key, toml::table& base_root,
                 const std::string& base_path, Parameter& p);
 
+/// The base file a study or calibration table names: scene = "FILE.toml" (stratum run) or
+/// point = "FILE.toml" (stratum point), relative to the study file's folder, read whole.
+struct BaseFile {
+  bool point = false;
+  std::string key;  ///< "scene" or "point"
+  std::string path; ///< as resolved
+  std::string text;
+};
+/// Reads the base file table `t` (named `ctx` in messages) names; one located Error when it names
+/// both kinds, neither, or a file that cannot be read.
+[[nodiscard]] BaseFile read_base_file(const toml::table& t, const std::string& ctx,
+                                      const std::string& study_path);
+
 /// Applies a study's [fixed] table (if any) and one element-loop thread count (scenes only) to the
 /// parsed base file; errors are located in the study file.
 void apply_fixed(const toml::table& study_root, toml::table& base_root, const std::string& base_path,
