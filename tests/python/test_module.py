@@ -7,7 +7,6 @@ import csv
 import os
 import signal
 import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -141,4 +140,3 @@ def test_a_sweep_from_python_gives_the_command_line_samples(tmp_path):
 def test_plugins_lists_the_kinds():
     p = stratum.plugins()
     assert "linear_elastic" in p["material"] and "newton" in p["solver"]
-    assert sys.version_info >= (3, 9)
