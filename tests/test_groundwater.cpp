@@ -634,7 +634,7 @@ TEST_CASE(
   CHECK(m.dofs.field("p") < 0); // no pressure unknowns: the points carry it
   CHECK(top_settlement(m) == Approx(H * (q - p0()) / oedometric()).epsilon(1e-8));
   const Domain& dm = m.domains[0];
-  REQUIRE(dm.law.material->history_names().front() == "p_excess");
+  REQUIRE(dm.law.material->history_names().front() == "p_excess [kPa]");
   for (std::size_t p = 0; p < dm.states.points(); ++p) {
     CHECK(dm.states.committed(p).history()[0] == Approx(p0()).epsilon(1e-8));
     CHECK(dm.states.committed(p).stress()[1] == Approx(-q).epsilon(1e-8)); // the total stress

@@ -146,10 +146,10 @@ TEST_CASE("groundwater: the integration-point cloud carries pore pressure, effec
   reader->Update();
   vtkPolyData* cloud = reader->GetOutput();
   REQUIRE(cloud->GetNumberOfPoints() == 8 * 9);
-  vtkDataArray* p = cloud->GetPointData()->GetArray("pore_pressure");
-  vtkDataArray* excess = cloud->GetPointData()->GetArray("excess_pore_pressure");
-  vtkDataArray* effective = cloud->GetPointData()->GetArray("effective_stress");
-  vtkDataArray* total = cloud->GetPointData()->GetArray("total_stress");
+  vtkDataArray* p = cloud->GetPointData()->GetArray("pore_pressure [kPa]");
+  vtkDataArray* excess = cloud->GetPointData()->GetArray("excess_pore_pressure [kPa]");
+  vtkDataArray* effective = cloud->GetPointData()->GetArray("effective_stress [kPa]");
+  vtkDataArray* total = cloud->GetPointData()->GetArray("total_stress [kPa]");
   REQUIRE((p && excess && effective && total));
   REQUIRE(total->GetNumberOfComponents() == 6);
   double largest = 0.0;

@@ -51,7 +51,7 @@ TEST_CASE("cli: the default scene writes a .pvd series that VTK reads back", "[c
   vtkUnstructuredGrid* grid = reader->GetOutput();
   REQUIRE(grid != nullptr);
   CHECK(grid->GetNumberOfCells() == 16);
-  vtkDataArray* u = grid->GetPointData()->GetArray("displacement");
+  vtkDataArray* u = grid->GetPointData()->GetArray("displacement [m]");
   REQUIRE(u != nullptr);
   REQUIRE(u->GetNumberOfComponents() == 3);
   // The largest radial displacement sits on the inner face: u(a) of the Lamé solution.
@@ -59,7 +59,7 @@ TEST_CASE("cli: the default scene writes a .pvd series that VTK reads back", "[c
   for (vtkIdType i = 0; i < u->GetNumberOfTuples(); ++i) umax = std::max(umax, u->GetComponent(i, 0));
   const double exact = (1 + 0.3) * 1.0 / (1000.0 * 3.0) * ((1 - 0.6) * 1.0 + 4.0);
   CHECK(std::abs(umax - exact) / exact < 1e-3);
-  vtkDataArray* stress = grid->GetCellData()->GetArray("stress");
+  vtkDataArray* stress = grid->GetCellData()->GetArray("stress [kPa]");
   REQUIRE(stress != nullptr);
   CHECK(stress->GetNumberOfComponents() == 6);
   CHECK(grid->GetCellData()->GetArray("set_id") != nullptr);
@@ -68,7 +68,7 @@ TEST_CASE("cli: the default scene writes a .pvd series that VTK reads back", "[c
   pr->SetFileName((out / "lame_axisymmetric_ip_1.vtp").string().c_str());
   pr->Update();
   CHECK(pr->GetOutput()->GetNumberOfPoints() == 16 * 9);
-  CHECK(pr->GetOutput()->GetPointData()->GetArray("stress") != nullptr);
+  CHECK(pr->GetOutput()->GetPointData()->GetArray("stress [kPa]") != nullptr);
   fs::remove_all(out);
 }
 
@@ -146,7 +146,7 @@ TEST_CASE("cli: the VTK series carries field data per step, strictly increasing 
   CHECK(stage0->GetValue(0) == "initial");
   CHECK(std::isnan(value(first->GetFieldData(), "head_load_kN")));
   // Named components: stress xx ... zx; interface traction shear/normal in the point cloud.
-  vtkDataArray* stress = last->GetCellData()->GetArray("stress");
+  vtkDataArray* stress = last->GetCellData()->GetArray("stress [kPa]");
   REQUIRE(stress != nullptr);
   REQUIRE(stress->GetComponentName(0) != nullptr);
   CHECK(std::string(stress->GetComponentName(0)) == "xx");
@@ -157,7 +157,7 @@ TEST_CASE("cli: the VTK series carries field data per step, strictly increasing 
   auto pr = vtkSmartPointer<vtkXMLPolyDataReader>::New();
   pr->SetFileName((out / vtp).string().c_str());
   pr->Update();
-  vtkDataArray* tr = pr->GetOutput()->GetPointData()->GetArray("interface_traction");
+  vtkDataArray* tr = pr->GetOutput()->GetPointData()->GetArray("interface_traction [kPa]");
   REQUIRE(tr != nullptr);
   REQUIRE(tr->GetComponentName(1) != nullptr);
   CHECK(std::string(tr->GetComponentName(0)) == "shear");

@@ -34,17 +34,20 @@ def read(path):
     r.Update()
     g = r.GetOutput()
     xy = vtk_to_numpy(g.GetPoints().GetData())[:, :2]
-    arr = g.GetPointData().GetArray("p")
-    if arr is None:
-        sys.exit(f"plot_pore_pressure: {path} has no node field 'p' (no porous cells)")
-    p = vtk_to_numpy(arr)
+    # the node field of the pore pressure, named with its unit ("p [kPa]", "p [MPa]" in N, mm)
+    pd = g.GetPointData()
+    names = [pd.GetArrayName(i) for i in range(pd.GetNumberOfArrays())]
+    name = next((n for n in names if n.startswith("p [")), None)
+    if name is None:
+        sys.exit(f"plot_pore_pressure: {path} has no node field 'p [<unit>]' (no porous cells)")
+    p = vtk_to_numpy(pd.GetArray(name))
     cells = [[g.GetCell(c).GetPointId(i) for i in range(4)] for c in range(g.GetNumberOfCells())]
     domain = g.GetCellData().GetArray("domain")
     names = g.GetFieldData().GetAbstractArray("domains")
     names = [names.GetValue(i) for i in range(names.GetNumberOfValues())] if names else []
     cell_domain = [names[int(domain.GetValue(c))] if domain and int(domain.GetValue(c)) < len(names) else ""
                    for c in range(len(cells))]
-    return xy, p, cells, cell_domain
+    return xy, p, cells, cell_domain, name[3:-1]
 
 
 def main():
@@ -69,7 +72,7 @@ def main():
     levels = None
     for k, t in enumerate(a.time):
         tk, path = min(series, key=lambda d: abs(d[0] - t))
-        xy, p, cells, cell_domain = read(path)
+        xy, p, cells, cell_domain, unit = read(path)
         tris, grey = [], []
         for c, dom in zip(cells, cell_domain):
             if dom == a.solid:
@@ -94,8 +97,8 @@ def main():
         ax.set_xlabel("r (m)")
         ax.set_ylabel("z (m)")
         title = a.label[k] if k < len(a.label) else f"time {tk:g}"
-        ax.set_title(f"{title}\nmax p = {np.nanmax(p):.1f} kPa, min p = {np.nanmin(p):.1f} kPa", fontsize=9)
-    fig.colorbar(cs, ax=axes[0].tolist(), label="excess pore pressure p (kPa, compression +)", shrink=0.8)
+        ax.set_title(f"{title}\nmax p = {np.nanmax(p):.1f} {unit}, min p = {np.nanmin(p):.1f} {unit}", fontsize=9)
+    fig.colorbar(cs, ax=axes[0].tolist(), label=f"excess pore pressure p ({unit}, compression +)", shrink=0.8)
     fig.savefig(a.output, dpi=110, bbox_inches="tight")
     print(f"wrote {a.output}")
 

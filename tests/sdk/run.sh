@@ -208,12 +208,12 @@ done < <(find "$example_src" -name '*.toml' | sort)
 [[ -s $work/out/lame_kg/lame_kg.pvd ]] || fail "no $work/out/lame_kg/lame_kg.pvd"
 ls "$work"/out/lame_kg/lame_kg_*.vtu >/dev/null 2>&1 || fail "no .vtu files in $work/out/lame_kg"
 # The scalar-field element: the scene ran above with its three checks (the closed form to 1e-10);
-# its head is written as the VTK point array "h".
+# its head is written as the VTK point array "h [m]" (the field's unit, as every array names it).
 [[ -f $example_src/two_layer_flow.toml ]] || fail "the guide writes no two_layer_flow.toml"
 grep -qx "element example_diffusion" "$plugin_dir/example_diffusion.plugin" ||
   fail "the manifest example_diffusion.plugin does not list 'element example_diffusion'"
-grep -lq 'Name="h"' "$work"/out/two_layer_flow/two_layer_flow_*.vtu ||
-  fail "the VTK output of two_layer_flow.toml has no point array h"
+grep -lq 'Name="h \[m\]"' "$work"/out/two_layer_flow/two_layer_flow_*.vtu ||
+  fail "the VTK output of two_layer_flow.toml has no point array 'h [m]'"
 echo "   two_layer_flow: the head h of example_diffusion at the closed form, and in the VTK files"
 
 step "the guide's tests (ctest): test_kg_elastic, material checks and Lamé u(a) against the closed form"

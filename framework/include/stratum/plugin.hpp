@@ -14,7 +14,7 @@
 
 /// Bumped whenever an interface in stratum/*.hpp changes in a binary-incompatible way; every
 /// version, what changed and how to port a plugin: docs/plugin-abi.md.
-#define STRATUM_PLUGIN_ABI_VERSION 14
+#define STRATUM_PLUGIN_ABI_VERSION 15
 
 #define STRATUM_PLUGIN(registry_name)                                                                        \
   extern "C" __attribute__((visibility("default"))) int stratum_plugin_abi_version() {                       \

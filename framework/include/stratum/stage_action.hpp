@@ -1,8 +1,9 @@
 // Stage actions: what one [[stages.actions]] table does to the model when its stage starts
 // (place or remove cells, set an initial stress, add or remove a load, prescribe a
-// displacement). The scene names an action by its `type`; the framework's own actions
-// (geostatic, deactivate, activate, pressure, load, force, gravity, remove, displacement,
-// reset_displacements) and those of plugins are registered alike:
+// displacement, change a domain's material). The scene names an action by its `type`; the
+// framework's own actions (geostatic, deactivate, activate, pressure, load, force, gravity,
+// remove, displacement, reset_displacements, change_material, and the water's) and those of
+// plugins are registered alike:
 //
 //   registry.add(stratum::Factory<stratum::StageAction>{"my_action", "one line", schema, create});
 //
@@ -14,6 +15,7 @@
 #include "stratum/model.hpp"
 #include "stratum/params.hpp"
 
+#include <map>
 #include <set>
 #include <string>
 #include <utility>
@@ -30,6 +32,11 @@ struct StageCheck {
   std::set<std::string>& load_names; ///< names of the loads applied at this point of the scene
   std::string default_load_name;     ///< for a load the table does not name: "<type>@<stage>"
   bool reset_after = false;          ///< set it: the stage's displacements are zeroed at its end
+  /// The model's domains as built (their names are their cell sets) and the scene's
+  /// [materials.<name>] by name: for an action that changes a domain's material. Set by the
+  /// framework; null in a StageCheck built elsewhere.
+  const std::vector<Domain>* domains = nullptr;
+  const std::map<std::string, const Material*>* materials = nullptr;
 
   /// Throws a located Error unless the text parameter `key` names a cell (node, edge) set.
   void require_cell_set(const Params& p, const std::string& key) const;
@@ -62,6 +69,12 @@ public:
   virtual void check(StageCheck& scene) { (void)scene; }
   /// Applies the action at the start of its stage (actions run in the order written).
   virtual void apply(StageState& state) const = 0;
+  /// A restart after this action's stage: re-applies what the action left in the model that a
+  /// checkpoint does not keep (which material a domain has, and the layout of its states), before
+  /// the checkpoint's values are restored. Called for the actions of every completed stage, in
+  /// order. Most actions change only what a checkpoint keeps (displacements, states, loads,
+  /// active cells) and need nothing here.
+  virtual void resume(Model& model) const { (void)model; }
 };
 
 } // namespace stratum

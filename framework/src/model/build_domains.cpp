@@ -54,7 +54,10 @@ public:
 
 void SceneModel::build_domains(const scene::Scene& sc) {
   if (sc.domains.empty()) throw Error(sc.at, "scene has no [[domains]]: nothing to analyse");
-  for (const auto& m : sc.materials) materials.push_back(m.plugin.create());
+  for (const auto& m : sc.materials) {
+    materials.push_back(m.plugin.create());
+    material_by_name[m.name] = materials.back().get();
+  }
   std::vector<int> owner(model.mesh.cells.size(), -1);
   for (std::size_t i = 0; i < sc.domains.size(); ++i) {
     const scene::DomainSpec& d = sc.domains[i];

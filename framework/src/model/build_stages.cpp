@@ -25,7 +25,8 @@ void SceneModel::build_stages(scene::Scene& sc) {
                       "\" is not a node or edge set of the mesh; known: " + key_list(model.mesh.node_sets));
     for (const auto& a : spec.actions) {
       auto action = a.plugin.create();
-      StageCheck check{model.mesh, a.context, a.at, load_names, a.default_load_name, false};
+      StageCheck check{model.mesh,          a.context, a.at,           load_names,
+                       a.default_load_name, false,     &model.domains, &material_by_name};
       action->check(check);
       st.reset_after = st.reset_after || check.reset_after;
       st.actions.push_back(std::move(action));

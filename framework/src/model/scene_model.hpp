@@ -22,6 +22,7 @@
 
 #include <Eigen/Dense>
 
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -40,6 +41,8 @@ struct SceneModel {
   /// [analysis], [convergence] and [output] as read (threads resolved: 0 = the machine's cores).
   scene::Settings settings;
   std::vector<std::unique_ptr<Material>> materials;
+  /// The scene's [materials.<name>] by name (stage actions that change a domain's material).
+  std::map<std::string, const Material*> material_by_name;
   std::vector<std::unique_ptr<Element>> elements;
   SceneInterfaces interfaces; ///< contact laws, interface elements, named interfaces
   /// The stage's solver factory and its checked parameters: each stage creates its own solver,

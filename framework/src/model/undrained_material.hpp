@@ -6,7 +6,7 @@
 // is the skeleton's plus K_f m m^T. PLAXIS calls this "Undrained (A)": effective-stress
 // parameters, the fluid's stiffness added. The point's stress (what the framework stores and
 // writes) is the total stress; its history is [p, the skeleton's history], so that the output
-// shows p as the point field "p_excess".
+// shows p as the point field "p_excess [kPa]".
 #pragma once
 
 #include "stratum/material.hpp"
@@ -41,7 +41,7 @@ public:
     return s_.step_error(trial_history.subspan(1));
   }
   [[nodiscard]] std::vector<std::string> history_names() const override {
-    std::vector<std::string> names{"p_excess"};
+    std::vector<std::string> names{"p_excess [kPa]"};
     for (auto& n : s_.history_names()) names.push_back(std::move(n));
     return names;
   }

@@ -48,9 +48,10 @@ void write_interface_csv(const std::vector<InterfacePoint>& points, const std::s
   if (!out) throw WriteError("cannot write interface CSV file '" + path + "': " + write_failure(errno));
 }
 
-void append_interface_fields(const Model& model, std::vector<OutputArray>& ip_fields) {
-  OutputArray tr{"interface_traction", 2, {}, {"shear", "normal"}},
-      jump{"interface_jump", 2, {}, {"slip", "opening"}}, status{"interface_status", 1, {}};
+void append_interface_fields(const Model& model, const std::string& traction_name,
+                             const std::string& jump_name, std::vector<OutputArray>& ip_fields) {
+  OutputArray tr{traction_name, 2, {}, {"shear", "normal"}}, jump{jump_name, 2, {}, {"slip", "opening"}},
+      status{"interface_status", 1, {}};
   for (const auto& dm : model.domains) {
     if (!dm.law.contact) {
       std::size_t n = 0;

@@ -29,8 +29,10 @@ struct InterfacePoint {
 void write_interface_csv(const std::vector<InterfacePoint>& points, const std::string& path);
 
 /// Integration-point fields over every domain of the model in output order (domains, cells,
-/// points): "interface_traction" (shear, normal), "interface_jump" (slip, opening) and
-/// "interface_status" (0 stick, 1 slip, 2 open; -1 at continuum points).
-void append_interface_fields(const Model& model, std::vector<OutputArray>& ip_fields);
+/// points): the traction (shear, normal) and the jump (slip, opening) named as given ("interface_
+/// traction [kPa]", "interface_jump [m]") and "interface_status" (0 stick, 1 slip, 2 open; -1 at
+/// continuum points).
+void append_interface_fields(const Model& model, const std::string& traction_name,
+                             const std::string& jump_name, std::vector<OutputArray>& ip_fields);
 
 } // namespace stratum

@@ -16,10 +16,35 @@ namespace stratum {
 
 namespace {
 
+/// The name of a VTK array with its unit spelt in the scene's units, as ParaView lists it:
+/// "stress [kPa]" ("stress [MPa]" in N, mm); "-" for a dimensionless quantity ("strain [-]").
+/// Integer codes (domain, set_id, plastic, interface_status) keep their bare names.
+std::string with_unit(const std::string& name, const Units& units, std::string_view unit) {
+  return name + " [" + units.label(unit) + "]";
+}
+
+/// A material's history name "name [unit]" (stratum::history_names, units of kN, m) with its unit
+/// spelt in the scene's units; a name without a unit (a UMAT's STATEV names) as it is.
+std::string history_name(const std::string& name, const Units& units) {
+  const auto open = name.rfind(" [");
+  if (open == std::string::npos || name.back() != ']') return name;
+  return with_unit(name.substr(0, open), units,
+                   std::string_view(name).substr(open + 2, name.size() - open - 3));
+}
+
+/// The unit of a nodal force: the whole ring in axisymmetry and a force in 3D, per unit of
+/// thickness in plane strain.
+std::string_view force_unit(const Model& m) {
+  return m.formulation == Formulation::plane_strain ? "kN/m" : "kN";
+}
+
 /// The nodal fields: displacement and reaction (3 components), then every other field of the model.
-void add_node_fields(const Model& m, OutputStep& out) {
-  OutputArray disp{"displacement", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
-  OutputArray reac{"reaction", 3, std::vector<double>(m.mesh.nodes.size() * 3, 0.0)};
+void add_node_fields(const Model& m, const Units& units, OutputStep& out) {
+  const std::vector<std::string> xyz{"x", "y", "z"};
+  OutputArray disp{with_unit("displacement", units, "m"), 3,
+                   std::vector<double>(m.mesh.nodes.size() * 3, 0.0), xyz};
+  OutputArray reac{with_unit("reaction", units, force_unit(m)), 3,
+                   std::vector<double>(m.mesh.nodes.size() * 3, 0.0), xyz};
   for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
     for (int c = 0; c < m.dim(); ++c) {
       const int d = m.dofs.dof(static_cast<int>(n), field_ux + c);
@@ -33,7 +58,7 @@ void add_node_fields(const Model& m, OutputStep& out) {
   // Every other field of the model (e.g. a pore pressure) as a scalar array of its name; NaN at
   // the nodes that do not carry it (the midside nodes of a Taylor-Hood cell).
   for (std::size_t f = static_cast<std::size_t>(m.dim()); f < m.dofs.fields.size(); ++f) {
-    OutputArray a{m.dofs.fields[f].name, 1,
+    OutputArray a{with_unit(m.dofs.fields[f].name, units, m.dofs.fields[f].unit), 1,
                   std::vector<double>(m.mesh.nodes.size(), std::numeric_limits<double>::quiet_NaN())};
     for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
       if (const int d = m.dofs.dof(static_cast<int>(n), static_cast<int>(f)); d >= 0) a.values[n] = m.u[d];
@@ -41,7 +66,7 @@ void add_node_fields(const Model& m, OutputStep& out) {
   }
   // The steady (hydrostatic) pore pressure below a phreatic level, at every node.
   if (m.water.present()) {
-    OutputArray a{"p_steady", 1, std::vector<double>(m.mesh.nodes.size(), 0.0)};
+    OutputArray a{with_unit("p_steady", units, "kPa"), 1, std::vector<double>(m.mesh.nodes.size(), 0.0)};
     for (std::size_t n = 0; n < m.mesh.nodes.size(); ++n)
       a.values[n] = m.water.pressure(m.mesh.nodes[n].x(), m.mesh.nodes[n].y());
     out.point_fields.push_back(std::move(a));
@@ -50,7 +75,7 @@ void add_node_fields(const Model& m, OutputStep& out) {
 
 /// The arrays of the materials' named history components (empty) and, per domain, the history
 /// slot of each array's name (-1: none).
-void history_fields(const Model& m, std::vector<OutputArray>& ip_history,
+void history_fields(const Model& m, const Units& units, std::vector<OutputArray>& ip_history,
                     std::vector<std::vector<int>>& history_index) {
   for (std::size_t d = 0; d < m.domains.size(); ++d) {
     if (!m.domains[d].law.material) continue;
@@ -58,9 +83,10 @@ void history_fields(const Model& m, std::vector<OutputArray>& ip_history,
     const auto n =
         std::min<std::size_t>(names.size(), static_cast<std::size_t>(m.domains[d].states.history_size()));
     for (std::size_t k = 0; k < n; ++k) {
+      const std::string name = history_name(names[k], units);
       std::size_t f = 0;
-      while (f < ip_history.size() && ip_history[f].name != names[k]) ++f;
-      if (f == ip_history.size()) ip_history.push_back(OutputArray{names[k], 1, {}});
+      while (f < ip_history.size() && ip_history[f].name != name) ++f;
+      if (f == ip_history.size()) ip_history.push_back(OutputArray{name, 1, {}});
       for (auto& idx : history_index) idx.resize(ip_history.size(), -1);
       history_index[d][f] = static_cast<int>(k);
     }
@@ -90,7 +116,7 @@ void write_step(VtkSeriesWriter& w, const RunView& run) {
   out.values = {{"stage_number", state.stage_number}, {"step", state.stage_step}, {"load_factor", m.lambda}};
   // The pile head's load and settlement, in a scene that loads one (NaN before its stage).
   if (settings.pile_head) {
-    out.values.push_back({units.column("head_load", "kN"), state.head_load});
+    out.values.push_back({units.column("head_load", force_unit(m)), state.head_load});
     out.values.push_back({"head_settlement_" + units.small_length(), state.head_settlement});
   }
   // Every load of the stage: the fraction of its full value applied now and its vertical
@@ -98,22 +124,25 @@ void write_step(VtkSeriesWriter& w, const RunView& run) {
   for (const auto& l : state.stage_loads) {
     const double fraction = l.ramp == 0 ? 1.0 : (l.ramp > 0 ? m.lambda : 1.0 - m.lambda);
     out.values.push_back({"load." + l.name + ".fraction", fraction});
-    out.values.push_back({"load." + l.name + "." + units.column("Fy", "kN"), fraction * l.fy});
+    out.values.push_back({"load." + l.name + "." + units.column("Fy", force_unit(m)), fraction * l.fy});
   }
-  add_node_fields(m, out);
+  add_node_fields(m, units, out);
   const std::vector<std::string> voigt{"xx", "yy", "zz", "xy", "yz", "zx"};
-  OutputArray stress{"stress", 6, {}, voigt}, set_id{"set_id", 1, {}};
-  OutputArray ip_stress{"stress", 6, {}, voigt}, ip_strain{"strain", 6, {}, voigt},
+  const std::string stress_name = with_unit("stress", units, "kPa");
+  OutputArray stress{stress_name, 6, {}, voigt}, set_id{"set_id", 1, {}};
+  OutputArray ip_stress{stress_name, 6, {}, voigt}, ip_strain{with_unit("strain", units, "-"), 6, {}, voigt},
       ip_plastic{"plastic", 1, {}};
   // Named history components (Material::history_names()): one scalar field per name over all
   // integration points; NaN where a domain's material has no component of that name.
   std::vector<OutputArray> ip_history;
   std::vector<std::vector<int>> history_index(m.domains.size()); // field -> history slot, per domain
-  if (settings.ip_output) history_fields(m, ip_history, history_index);
+  if (settings.ip_output) history_fields(m, units, ip_history, history_index);
   // The pore water at the points, in a model that has any (output/recorders.hpp, PointWater).
   const bool water = settings.ip_output && has_pore_water(m);
-  OutputArray ip_p{"pore_pressure", 1, {}}, ip_excess{"excess_pore_pressure", 1, {}},
-      ip_effective{"effective_stress", 6, {}, voigt}, ip_total{"total_stress", 6, {}, voigt};
+  OutputArray ip_p{with_unit("pore_pressure", units, "kPa"), 1, {}},
+      ip_excess{with_unit("excess_pore_pressure", units, "kPa"), 1, {}},
+      ip_effective{with_unit("effective_stress", units, "kPa"), 6, {}, voigt},
+      ip_total{with_unit("total_stress", units, "kPa"), 6, {}, voigt};
   std::vector<PointWater> point_w;
   std::size_t total_points = 0;
   for (const auto& dm : m.domains)
@@ -176,7 +205,9 @@ void write_step(VtkSeriesWriter& w, const RunView& run) {
   if (water)
     for (auto* f : {&ip_p, &ip_excess, &ip_effective, &ip_total}) out.ip_fields.push_back(std::move(*f));
   add_status_names(m, out, settings.ip_output); // "domain", "domains", "plastic_regimes_<domain>"
-  if (settings.ip_output && !run.interfaces.interfaces.empty()) append_interface_fields(m, out.ip_fields);
+  if (settings.ip_output && !run.interfaces.interfaces.empty())
+    append_interface_fields(m, with_unit("interface_traction", units, "kPa"),
+                            with_unit("interface_jump", units, "m"), out.ip_fields);
   w.write(out);
   for (const auto& itf : run.interfaces.interfaces)
     if (itf.csv)

@@ -89,6 +89,16 @@ RunSummary Analysis::run() {
       throw Error(where, "--restart-from " + path + ": " + why);
     if (c.states.size() != m.domains.size() || c.u.size() != static_cast<std::size_t>(m.u.size()))
       throw Error(path + ": the checkpoint does not match the scene's model size");
+    // What the completed stages' actions left that the checkpoint does not keep (a domain's
+    // material), then the checkpoint's values.
+    for (int k = 0; k < c.stages_done && static_cast<std::size_t>(k) < sm.stages.size(); ++k)
+      for (const auto& a : sm.stages[static_cast<std::size_t>(k)].actions) a->resume(m);
+    for (std::size_t d = 0; d < m.domains.size(); ++d)
+      if (c.states[d].size() != m.domains[d].states.committed_data().size())
+        throw Error(path + ": the checkpoint's states of domain \"" + m.domains[d].name +
+                    "\" do not match its material's history (" + std::to_string(c.states[d].size()) +
+                    " values, the scene's model has " +
+                    std::to_string(m.domains[d].states.committed_data().size()) + ")");
     restore(c, m, s.loads, s.state.time);
     first = static_cast<std::size_t>(c.stages_done);
     summary.stages_done = c.stages_done;

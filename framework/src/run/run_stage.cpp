@@ -227,8 +227,11 @@ void Analysis::Impl::record_stage_loads(const std::vector<LoadSpec>& before) {
   auto resultant = [&](const LoadSpec& l) {
     Eigen::VectorXd f = Eigen::VectorXd::Zero(sm.model.u.size());
     add_load(sm.model, l, f);
+    // The y components by the DOF map: a node of a porous cell also carries p, so the unknowns
+    // are not (ux, uy) pairs throughout.
     double fy = 0.0;
-    for (Eigen::Index d = 1; d < f.size(); d += 2) fy += f[d];
+    for (std::size_t n = 0; n < sm.model.mesh.nodes.size(); ++n)
+      if (const int d = sm.model.dofs.dof(static_cast<int>(n), field_uy); d >= 0) fy += f[d];
     return fy;
   };
   auto& stage_loads = state.stage_loads;

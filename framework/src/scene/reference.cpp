@@ -290,10 +290,15 @@ void add_output_sections(std::vector<Section>& out) {
       b.notes.push_back(std::string("kind = \"") + kind + "\" records: " + q);
     }
     b.notes.push_back(
-        "Units: displacements m, reactions kN (sums over the set), stresses kPa (tension positive), "
-        "strains -, s, x, y m; status: the model's own regime number (-1: none). In a scene with [units]: "
-        "its "
-        "length, force and stress units (the column names stay as they are; checks name them).");
+        "Units: displacements m, reactions kN (sums over the set; the whole ring in axisymmetry, kN/m in "
+        "plane strain), stresses kPa (tension positive), strains -, s, x, y m; status: the model's own "
+        "regime number (-1: none). In a scene with [units]: its length, force and stress units. The CSV "
+        "header names each column with its unit (uy_m, ry_kN, ry_kN_per_m, sxx_kPa); a study or a check "
+        "names the quantity without it (footing.ry).");
+    b.notes.push_back(
+        "Sign of a reaction: the force the supports put on the body, in the axes' directions: a footing "
+        "pushed down by a prescribed settlement records a negative ry, and a [[checks]] entry expects that "
+        "sign.");
     s.blocks.push_back(std::move(b));
   }
   {

@@ -5,6 +5,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace stratum {
@@ -76,6 +78,30 @@ std::string mesh_text(const Mesh& m) {
   return o.str();
 }
 
+/// The stage (0-based) of the first `change_material` action naming each material that no
+/// [[domains]] entry names.
+std::map<std::string, int> material_stages(const toml::table& root) {
+  std::set<std::string> in_domains;
+  if (const auto* ds = root["domains"].as_array())
+    for (const auto& d : *ds)
+      if (const auto* t = d.as_table())
+        if (const auto* m = t->get("material"); m && m->is_string()) in_domains.insert(m->as_string()->get());
+  std::map<std::string, int> first;
+  if (const auto* st = root["stages"].as_array())
+    for (std::size_t k = 0; k < st->size(); ++k)
+      if (const auto* t = (*st)[k].as_table())
+        if (const auto* actions = t->get("actions"); actions && actions->is_array())
+          for (const auto& a : *actions->as_array())
+            if (const auto* at = a.as_table()) {
+              const auto* type = at->get("type");
+              const auto* m = at->get("material");
+              if (type && type->is_string() && type->as_string()->get() == "change_material" && m &&
+                  m->is_string() && !in_domains.count(m->as_string()->get()))
+                first.emplace(m->as_string()->get(), static_cast<int>(k));
+            }
+  return first;
+}
+
 } // namespace
 
 std::string mesh_digest(const Mesh& mesh) { return digest_of(mesh_text(mesh)); }
@@ -94,11 +120,17 @@ std::vector<FingerprintPart> scene_parts(const toml::table& root, const std::str
   if (const auto* u = root.get("units")) add("[units]", canonical(*u), -1, io::location(*u));
   parts.push_back(
       {mesh_part_name, "", -1, root.get("mesh") ? io::location(*root.get("mesh")) : io::location(root)});
+  // A material that no [[domains]] entry names but a stage's change_material does belongs to the
+  // first such stage: a restart before it may add or edit it (the stage is still to run).
+  const std::map<std::string, int> first_stage = material_stages(root);
   for (const char* group : {"materials", "contact_laws"})
     if (const auto* t = root[group].as_table())
-      for (auto&& [key, value] : *t)
-        add("[" + std::string(group) + "." + std::string(key.str()) + "]", canonical(value), -1,
+      for (auto&& [key, value] : *t) {
+        const auto at = first_stage.find(std::string(key.str()));
+        add("[" + std::string(group) + "." + std::string(key.str()) + "]", canonical(value),
+            std::string(group) == "materials" && at != first_stage.end() ? at->second : -1,
             io::location(value));
+      }
   for (const char* list : {"domains", "interfaces", "constraints"})
     if (const auto* n = root.get(list))
       add("[[" + std::string(list) + "]]", canonical(*n), -1, io::location(*n));

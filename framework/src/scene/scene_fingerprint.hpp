@@ -6,7 +6,8 @@
 // and, per stage, its [[stages]] table (or [[loads]] in a scene without stages). A checkpoint
 // written after stage k keeps the global parts and those of stages 1..k; a restart compares
 // exactly those, so the later stages may change (that is what a restart is for) and nothing
-// that shaped the saved state may. Comments and key order in the file do not matter.
+// that shaped the saved state may. A [materials.*] table that only a stage's change_material names
+// belongs to that stage, not to the global parts. Comments and key order in the file do not matter.
 #pragma once
 
 #include "stratum/error.hpp"

@@ -140,6 +140,80 @@ private:
   Params p_;
 };
 
+/// change_material: a domain's points continue with another material from the stage's start
+/// (concrete that hardens, ground improved): each keeps its stress and strain, and the new
+/// material's history starts from that stress (Material::init_history), as a placed point's does.
+class ChangeMaterial final : public StageAction {
+public:
+  static Schema schema() {
+    Schema g;
+    g.text("domain", {}, "the [[domains]] entry, named by its cell set (its `cells`)");
+    g.text("material", {}, "name of a [materials.<name>] table the domain continues with");
+    return g;
+  }
+  explicit ChangeMaterial(const Params& p) : p_(p) {}
+  void check(StageCheck& scene) override {
+    if (!scene.domains || !scene.materials)
+      throw Error(scene.where, scene.context + " needs the scene's domains");
+    const std::string& name = p_.text("domain");
+    const auto where = [&](const char* key) { return p_.where(key).known() ? p_.where(key) : scene.where; };
+    std::string known;
+    for (std::size_t d = 0; d < scene.domains->size(); ++d) {
+      const Domain& dm = (*scene.domains)[d];
+      if (!dm.law.contact && dm.element && dm.element->needs_material())
+        known += (known.empty() ? "" : ", ") + dm.name;
+      if (dm.name == name) domain_ = static_cast<int>(d);
+    }
+    if (domain_ < 0)
+      throw Error(where("domain"),
+                  scene.context + " domain = \"" + name +
+                      "\" is not a [[domains]] entry (a domain is named by its cells); known: " + known);
+    const Domain& dm = (*scene.domains)[static_cast<std::size_t>(domain_)];
+    if (dm.law.contact || !dm.element->needs_material())
+      throw Error(where("domain"), scene.context + " domain = \"" + name +
+                                       "\" has no material to change (an interface or an element without "
+                                       "one); allowed: " +
+                                       known);
+    if (dm.drainage == "undrained")
+      throw Error(where("domain"),
+                  scene.context + " domain = \"" + name +
+                      "\" is undrained (drainage = \"undrained\"): its points carry the excess pore pressure "
+                      "in the material's history, which a change would drop; allowed: domains drained, "
+                      "non_porous or undrained_total");
+    const auto it = scene.materials->find(p_.text("material"));
+    if (it == scene.materials->end()) {
+      std::string names;
+      for (const auto& [n, m] : *scene.materials) names += (names.empty() ? "" : ", ") + n;
+      throw Error(where("material"), scene.context + " material = \"" + p_.text("material") +
+                                         "\" is not a [materials.<name>] table; known: " + names);
+    }
+    material_ = it->second;
+  }
+  void apply(StageState& s) const override {
+    Domain& dm = s.model.domains[static_cast<std::size_t>(domain_)];
+    const StateStore before = dm.states;
+    resume(s.model);
+    for (std::size_t p = 0; p < dm.states.points(); ++p) {
+      const auto old = before.committed(p);
+      auto slot = dm.states.committed_for_init(p);
+      slot.stress() = old.stress();
+      slot.strain() = old.strain();
+      material_->init_history(old.stress(), slot.history());
+    }
+    dm.states.revert(); // trial = committed
+  }
+  void resume(Model& model) const override {
+    Domain& dm = model.domains[static_cast<std::size_t>(domain_)];
+    dm.law.material = material_;
+    dm.states = StateStore(dm.states.points(), material_->history_size());
+  }
+
+private:
+  Params p_;
+  int domain_ = -1;
+  const Material* material_ = nullptr;
+};
+
 /// remove: a load added by an earlier action stops acting.
 class Remove final : public StageAction {
 public:
@@ -409,13 +483,16 @@ void register_builtin_actions(Registry& r) {
                               Displacement::schema()));
   register_water_actions(r); // stages/water_actions.cpp: drain, seal, water_level, inflow
   r.add(factory<ResetDisplacements>("reset_displacements", "displacements start again from zero", Schema{}));
+  r.add(factory<ChangeMaterial>("change_material",
+                                "a domain continues with another material, its stresses kept",
+                                ChangeMaterial::schema()));
 }
 
 const std::vector<std::string>& builtin_action_types() {
   static const std::vector<std::string> types{
       "geostatic", "deactivate", "activate",    "pressure",     "load",
       "force",     "gravity",    "remove",      "displacement", "reset_displacements",
-      "drain",     "seal",       "water_level", "inflow"};
+      "drain",     "seal",       "water_level", "inflow",       "change_material"};
   return types;
 }
 

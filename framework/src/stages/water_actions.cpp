@@ -150,8 +150,7 @@ public:
       throw Error(where, "water_level: load \"" + p_.text("load") +
                              "\" is not the self-weight of a geostatic action with water_level");
     for (const auto& d : m.domains)
-      if (d.law.material && !d.law.material->history_names().empty() &&
-          d.law.material->history_names().front() == "p_excess")
+      if (d.drainage == "undrained")
         throw Error(where, "water_level: a domain with drainage = \"undrained\" keeps its excess pressure at "
                            "its points; a moving level is verified with porous elements only (quad8p4, "
                            "tri6p3), use them where the level moves");
