@@ -24,7 +24,8 @@ const std::string text = stratum::testing::read_text(path);
 /// The oedometric modulus E (1 - nu) / ((1 + nu)(1 - 2 nu)).
 double oedometric(double E, double nu) { return E * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
 
-std::unique_ptr<Analysis> run_scene(const std::string& toml, const fs::path& out, const std::string& restart = "") {
+std::unique_ptr<Analysis> run_scene(const std::string& toml, const fs::path& out,
+                                    const std::string& restart = "") {
   RunOptions o;
   o.plugin_dirs = {STRATUM_PLUGIN_DIR};
   o.out_dir = out.string();
@@ -83,7 +84,8 @@ TEST_CASE("change_material: each layer strains with its material of the stage, s
       CHECK(sb.stages_done == 3);
       CHECK((b->model().u.array() == m.u.array()).all());
       for (std::size_t d = 0; d < m.domains.size(); ++d) {
-        CHECK(b->model().domains[d].law.material->history_size() == m.domains[d].law.material->history_size());
+        CHECK(b->model().domains[d].law.material->history_size() ==
+              m.domains[d].law.material->history_size());
         CHECK(b->model().domains[d].states.committed_data() == m.domains[d].states.committed_data());
       }
     }
@@ -93,16 +95,16 @@ TEST_CASE("change_material: each layer strains with its material of the stage, s
     auto b = run_scene(edited, out / "edited", s.checkpoints[0]);
     const auto sb = b->run();
     REQUIRE(sb.outcome.ok());
-    const double stiffer =
-        100.0 * (H / soft + H / soft) + 50.0 * (H / oedometric(80000.0, nu) + H / soft) +
-        30.0 * (H / relaxed + H / soft);
+    const double stiffer = 100.0 * (H / soft + H / soft) + 50.0 * (H / oedometric(80000.0, nu) + H / soft) +
+                           30.0 * (H / relaxed + H / soft);
     CHECK(surface_settlement(b->model()) == Approx(stiffer).epsilon(1e-10));
   }
   SECTION("after the stage that named it, an edited material is refused, located at its table") {
     const std::string edited = replaced(text, "E = 40000.0", "E = 80000.0");
     auto b = run_scene(edited, out / "refused", s.checkpoints[1]);
-    CHECK_THROWS_WITH(b->run(), Catch::Contains("change_material.toml:") &&
-                                    Catch::Contains("[materials.improved] differs from the scene that wrote"));
+    CHECK_THROWS_WITH(b->run(),
+                      Catch::Contains("change_material.toml:") &&
+                          Catch::Contains("[materials.improved] differs from the scene that wrote"));
   }
   SECTION("a material the domains name stays global: editing `soft` is refused after any stage") {
     const std::string edited = replaced(text, "E = 10000.0", "E = 11000.0");
@@ -148,9 +150,10 @@ material = "clay"
     const auto st = lower.states.committed(p);
     const Vec6 sig = st.stress();
     const double mean = -(sig[0] + sig[1] + sig[2]) / 3.0;
-    const double q = std::sqrt(0.5 * ((sig[0] - sig[1]) * (sig[0] - sig[1]) + (sig[1] - sig[2]) * (sig[1] - sig[2]) +
-                                      (sig[2] - sig[0]) * (sig[2] - sig[0])) +
-                               3.0 * sig[3] * sig[3]);
+    const double q =
+        std::sqrt(0.5 * ((sig[0] - sig[1]) * (sig[0] - sig[1]) + (sig[1] - sig[2]) * (sig[1] - sig[2]) +
+                         (sig[2] - sig[0]) * (sig[2] - sig[0])) +
+                  3.0 * sig[3] * sig[3]);
     CHECK(mean == Approx(100.0 * (1.0 + 2.0 * 0.3 / 0.7) / 3.0).epsilon(1e-9)); // the stress carried over
     CHECK(st.history()[0] == Approx(mean + q * q / (1.44 * mean)).epsilon(1e-9));
   }
@@ -161,13 +164,14 @@ TEST_CASE("change_material: bad input is located and lists what is allowed", "[s
   using stratum::testing::build_error;
   const std::string domain_typo = replaced(text, "domain = \"upper\"\nmaterial = \"improved\"",
                                            "domain = \"uper\"\nmaterial = \"improved\"");
-  CHECK_THAT(build_error(domain_typo, path),
-             Catch::Contains("change_material.toml:88:") && Catch::Contains("domain = \"uper\" is not a [[domains]]") &&
-                 Catch::Contains("known: upper, lower"));
+  CHECK_THAT(build_error(domain_typo, path), Catch::Contains("change_material.toml:88:") &&
+                                                 Catch::Contains("domain = \"uper\" is not a [[domains]]") &&
+                                                 Catch::Contains("known: upper, lower"));
   const std::string material_typo = replaced(text, "material = \"improved\"", "material = \"improvd\"");
-  CHECK_THAT(build_error(material_typo, path), Catch::Contains("change_material.toml:89:") &&
-                                                   Catch::Contains("material = \"improvd\" is not a [materials") &&
-                                                   Catch::Contains("known: improved, relaxed, soft"));
+  CHECK_THAT(build_error(material_typo, path),
+             Catch::Contains("change_material.toml:89:") &&
+                 Catch::Contains("material = \"improvd\" is not a [materials") &&
+                 Catch::Contains("known: improved, relaxed, soft"));
   const std::string undrained = replaced(text, "cells = \"upper\"\nelement = \"quad\"\nmaterial = \"soft\"",
                                          "cells = \"upper\"\nelement = \"quad\"\nmaterial = \"soft\"\n"
                                          "drainage = \"undrained\"\nfluid_stiffness = 1.0e6");

@@ -31,8 +31,8 @@ namespace test_vtk_units {
 namespace fs = std::filesystem;
 
 const std::set<std::string> codes{"domain", "set_id", "plastic", "interface_status"};
-const std::set<std::string> bare_field_data{"time",  "stage",   "stage_number", "step", "load_factor",
-                                            "units", "domains", "interface_status_names"};
+const std::set<std::string> bare_field_data{"time",        "stage", "stage_number", "step",
+                                            "load_factor", "units", "domains",      "interface_status_names"};
 
 /// The unit of "name [unit]", "" when the name has no bracketed unit.
 std::string bracket_unit(const std::string& name) {
@@ -59,8 +59,8 @@ struct Output {
 };
 
 void read_arrays(vtkDataSet& data, const std::string& file, Output& out) {
-  for (vtkFieldData* fd : {static_cast<vtkFieldData*>(data.GetPointData()),
-                           static_cast<vtkFieldData*>(data.GetCellData())})
+  for (vtkFieldData* fd :
+       {static_cast<vtkFieldData*>(data.GetPointData()), static_cast<vtkFieldData*>(data.GetCellData())})
     for (int i = 0; i < fd->GetNumberOfArrays(); ++i) {
       const std::string name = fd->GetArrayName(i);
       INFO(file << ": array \"" << name << "\"");
@@ -87,8 +87,8 @@ void read_arrays(vtkDataSet& data, const std::string& file, Output& out) {
 
 /// Runs `scene` (relative to the source tree) into a fresh folder and reads every VTK file it wrote.
 Output run_and_read(const std::string& scene) {
-  const fs::path out = fs::temp_directory_path() /
-                       ("stratum_vtk_units_" + fs::path(scene).stem().string() + "_" + std::to_string(::getpid()));
+  const fs::path out = fs::temp_directory_path() / ("stratum_vtk_units_" + fs::path(scene).stem().string() +
+                                                    "_" + std::to_string(::getpid()));
   fs::remove_all(out);
   const std::string cmd = std::string(STRATUM_EXE) + " run " + STRATUM_SOURCE_DIR + "/" + scene + " --out " +
                           out.string() + " > " + out.string() + ".log 2>&1";
