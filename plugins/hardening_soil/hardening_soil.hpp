@@ -1,6 +1,6 @@
-// Hardening Soil (Schanz, Vermeer and Bonnier 1999) with the optional small-strain stiffness
-// of Benz (2007) in a simplified scalar-history form. Equations, the variant chosen and every
-// simplification: README.md in this folder.
+// Hardening Soil (Schanz, Vermeer and Bonnier 1999) with the optional small-strain overlay of
+// Benz (2007; Benz, Vermeer and Schwab 2009: the deviatoric strain history tensor and its
+// reversal rules). Equations, the variant chosen and every difference: README.md in this folder.
 //
 // The model is isotropic, so the return is done in principal stress space (compression
 // positive there) and rotated back; the consistent tangent is that of an isotropic tensor
@@ -616,40 +616,86 @@ struct Oedometer {
 /// History layout.
 namespace slot {
 inline constexpr int gamma_p = 0, p_p = 1, status = 2;
-inline constexpr int strain_since_reversal = 3; // 6 entries, engineering shear
-inline constexpr int stress_at_reversal = 9;    // 6 entries
-inline constexpr int G0 = 15, K = 16, Gur = 17;
-inline constexpr int size_standard = 3, size_small_strain = 18;
+/// Benz's deviatoric strain history H (small_strain only): 6 tensor components xx, yy, zz, xy,
+/// yz, zx (not engineering shear).
+inline constexpr int strain_history = 3;
+inline constexpr int size_standard = 3, size_small_strain = 9;
 } // namespace slot
 
-/// The small-strain secant shear modulus at gamma: G0 / (1 + a gamma / gamma_07) up to the
-/// cut-off strain where the tangent reaches G_ur, beyond it a straight continuation with slope
-/// G_ur. Returns G_sec and d G_sec / d gamma.
-[[nodiscard]] inline std::array<double, 2> secant_shear(double G0, double Gur, double g07, double gamma) {
+/// The small-strain shear stress-strain curve of the overlay in terms of the history strain:
+/// tau(gamma) = G0 gamma / (1 + a gamma / gamma_07) up to the cut-off strain where its tangent
+/// G0 / (1 + a gamma / gamma_07)^2 has fallen to G_ur, beyond it a straight continuation with
+/// slope G_ur. Returns tau and d tau / d gamma.
+[[nodiscard]] inline std::array<double, 2> small_strain_tau(double G0, double Gur, double g07, double gamma) {
   const double a = small_strain_a;
   const double gc = G0 > Gur ? g07 / a * (std::sqrt(G0 / Gur) - 1.0) : 0.0;
   if (gamma <= gc) {
     const double den = 1.0 + a * gamma / g07;
-    return {G0 / den, -G0 * a / g07 / (den * den)};
+    return {G0 * gamma / den, G0 / (den * den)};
   }
   const double tc = gc > 0.0 ? G0 * gc / (1.0 + a * gc / g07) : 0.0;
-  const double tau = tc + Gur * (gamma - gc);
-  return {tau / gamma, (Gur * gamma - tau) / (gamma * gamma)};
+  return {tc + Gur * (gamma - gc), Gur};
 }
 
-/// Deviatoric part of an engineering-shear strain vector as a tensor-component vector.
-[[nodiscard]] inline Vec6 strain_deviator_tensor(const Vec6& e) {
-  Vec6 d = e;
-  const double m = (e[0] + e[1] + e[2]) / 3.0;
-  d[0] -= m, d[1] -= m, d[2] -= m;
-  d[3] *= 0.5, d[4] *= 0.5, d[5] *= 0.5;
-  return d;
+/// The symmetric tensor of a tensor-component vector (xx yy zz xy yz zx) and back.
+[[nodiscard]] inline Mat3 sym_tensor(const Vec6& v) {
+  Mat3 t;
+  t << v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2];
+  return t;
 }
-/// gamma_hist = sqrt(2 e:e) of the deviatoric strain since the last reversal (README).
-[[nodiscard]] inline double gamma_hist(const Vec6& e_eng) {
-  const Vec6 d = strain_deviator_tensor(e_eng);
-  const double ee = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * (d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
-  return std::sqrt(2.0 * ee);
+[[nodiscard]] inline Vec6 sym_vector(const Mat3& t) {
+  Vec6 v;
+  v << t(0, 0), t(1, 1), t(2, 2), 0.5 * (t(0, 1) + t(1, 0)), 0.5 * (t(1, 2) + t(2, 1)),
+      0.5 * (t(0, 2) + t(2, 0));
+  return v;
+}
+/// The deviatoric strain tensor of an engineering-shear strain vector.
+[[nodiscard]] inline Mat3 strain_deviator(const Vec6& e) {
+  Mat3 t;
+  t << e[0], 0.5 * e[3], 0.5 * e[5], 0.5 * e[3], e[1], 0.5 * e[4], 0.5 * e[5], 0.5 * e[4], e[2];
+  t.diagonal().array() -= t.trace() / 3.0;
+  return t;
+}
+
+/// Benz's strain history over one increment (README, "Small-strain stiffness"): the history
+/// strain the increment starts from (gamma_1), the one it ends at (gamma_2), and the new history.
+struct HistoryStep {
+  Mat3 H; ///< after the increment
+  double gamma1 = 0.0, gamma2 = 0.0;
+  std::array<bool, 3> reset{}; ///< per principal direction of the increment (ascending)
+};
+
+/// One increment `de` (deviatoric strain tensor) from the history H. Each principal direction
+/// of de along which H points the other way is reset (its diagonal entry in that basis set to
+/// zero, the entries coupling it to the others scaled); `forced` (a finite-difference neighbour
+/// of an increment) imposes the reset pattern instead of testing it. gamma = sqrt(3) |H n|,
+/// n = de / |de|, before the increment is added (from the reset history) and after.
+[[nodiscard]] inline HistoryStep history_step(const Mat3& H, const Mat3& de,
+                                              const std::array<bool, 3>* forced = nullptr) {
+  HistoryStep r;
+  const double nde = de.norm();
+  if (!(nde > 0.0)) { // no increment: along the history itself (continued loading)
+    r.H = H;
+    const double nh = H.norm();
+    r.gamma1 = r.gamma2 = nh > 0.0 ? std::sqrt(3.0) * (H * H).norm() / nh : 0.0;
+    return r;
+  }
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(de);
+  const Mat3& Q = es.eigenvectors();
+  const Vec3& d = es.eigenvalues();
+  const Mat3 Hp = Q.transpose() * H * Q;
+  Vec3 t = Vec3::Ones();
+  for (int i = 0; i < 3; ++i) {
+    r.reset[i] = forced ? (*forced)[i] : Hp(i, i) * d[i] < 0.0;
+    if (r.reset[i]) t[i] = 1.0 / std::sqrt(std::max(1.0 + Hp(i, i), 1e-12));
+  }
+  const Mat3 reset =
+      Q * (t.asDiagonal() * (Hp + Mat3::Identity()) * t.asDiagonal() - Mat3::Identity()) * Q.transpose();
+  const Mat3 n = de / nde;
+  r.gamma1 = std::sqrt(3.0) * (reset * n).norm();
+  r.H = reset + de;
+  r.gamma2 = std::sqrt(3.0) * (r.H * n).norm();
+  return r;
 }
 
 class HardeningSoil final : public Material {
@@ -676,7 +722,7 @@ public:
     h[slot::gamma_p] = std::max(0.0, g < 1e299 ? g : 0.0);
     h[slot::p_p] =
         std::max({core_.params().OCR * core_.p_eq(s), core_.params().p_p0, 1e-6 * core_.params().p_ref});
-    if (core_.params().small_strain) reset_reversal(stress, h);
+    // small_strain: the history tensor H starts at zero (every point at G0)
   }
 
   [[nodiscard]] int point_status(const Vec6&, std::span<const double> h) const override {
@@ -707,61 +753,60 @@ public:
     Internal qn{in.history_n[slot::gamma_p], in.history_n[slot::p_p]};
 
     if (p.small_strain) {
-      Vec6 a = Eigen::Map<const Vec6>(&in.history_n[slot::strain_since_reversal]);
-      // Reversal: the deviatoric increment points against the deviatoric strain since the last
-      // reversal.
-      const Vec6 da = strain_deviator_tensor(in.dstrain), an = strain_deviator_tensor(a);
-      const double dot = da.head<3>().dot(an.head<3>()) + 2.0 * da.tail<3>().dot(an.tail<3>());
-      if (dot < 0.0) {
-        reset_reversal(in.stress_n, out.history);
-        a.setZero();
-      }
-      // Elastic predictor: the increment of the secant law between the strains since the
-      // reversal at the start and at the end of the step (telescoping along a branch).
-      Mat6 Dss;
-      const Vec6 s_end = secant_stress(out.history, a + in.dstrain, &Dss);
-      const Vec6 trial = in.stress_n + s_end - secant_stress(out.history, a, nullptr);
-      a += in.dstrain;
-      for (int i = 0; i < 6; ++i) out.history[slot::strain_since_reversal + i] = a[i];
-      return plastic_update(in, qn, trial, Dss, out);
+      // Benz's overlay (README): the chord of the small-strain curve over the history strains
+      // the increment starts from and ends at, G0 and G_ur at the stress at the start.
+      const Mat3 H = sym_tensor(Eigen::Map<const Vec6>(&in.history_n[slot::strain_history]));
+      const double s3 = sigma3(in.stress_n), Gur = core_.Eur(s3) / (2.0 * (1.0 + p.nu_ur));
+      const double G0 = std::max(core_.G0(s3), Gur);
+      const HistoryStep hstep = history_step(H, strain_deviator(in.dstrain));
+      const Mat6 D = shear_stiffness(chord_modulus(G0, Gur, hstep));
+      const Mat6 Dtr = in.want_tangent ? predictor_tangent(H, in.dstrain, G0, Gur, hstep) : D;
+      const Vec6 hv = sym_vector(hstep.H);
+      for (int i = 0; i < 6; ++i) out.history[slot::strain_history + i] = hv[i];
+      return plastic_update(in, qn, in.stress_n + D * in.dstrain, Dtr, out);
     }
     const Mat6 D = isotropic_stiffness(core_.Eur(sigma3(in.stress_n)), p.nu_ur);
     return plastic_update(in, qn, in.stress_n + D * in.dstrain, D, out);
   }
 
-  /// The small-strain secant law from the last reversal, K tr(a) 1 + 2 G_sec(gamma_hist) dev(a),
-  /// and (when asked) its derivative with respect to a.
-  [[nodiscard]] Vec6 secant_stress(std::span<const double> h, const Vec6& a, Mat6* tangent) const {
-    const double G0 = h[slot::G0], K = h[slot::K], Gur = h[slot::Gur];
-    const double gam = gamma_hist(a);
-    const auto [Gs, dGs] = secant_shear(G0, Gur, core_.params().gamma_07, gam);
-    const Vec6 ad = strain_deviator_tensor(a);
-    const double ev = a[0] + a[1] + a[2];
-    Vec6 s;
-    for (int i = 0; i < 3; ++i) s[i] = K * ev + 2.0 * Gs * ad[i];
-    for (int i = 3; i < 6; ++i) s[i] = 2.0 * Gs * ad[i];
-    if (tangent) {
-      *tangent = stiffness_kg(K, Gs);
-      if (gam > 0.0) *tangent += (4.0 * dGs / gam) * ad * ad.transpose(); // d gamma/d a = 2 ad/gamma
+  /// The chord modulus of the small-strain curve between the history strains of a step (its
+  /// tangent where they coincide).
+  [[nodiscard]] double chord_modulus(double G0, double Gur, const HistoryStep& h) const {
+    const double g07 = core_.params().gamma_07;
+    const auto [t1, d1] = small_strain_tau(G0, Gur, g07, h.gamma1);
+    if (std::abs(h.gamma2 - h.gamma1) <= 1e-12 * std::max({h.gamma1, h.gamma2, g07})) return d1;
+    return (small_strain_tau(G0, Gur, g07, h.gamma2)[0] - t1) / (h.gamma2 - h.gamma1);
+  }
+  /// The isotropic stiffness of shear modulus G at the constant nu_ur.
+  [[nodiscard]] Mat6 shear_stiffness(double G) const {
+    const double nu = core_.params().nu_ur;
+    return isotropic_stiffness(2.0 * G * (1.0 + nu), nu);
+  }
+  /// d (D(G(de)) de) / d de by central differences with the step's reversal pattern held (step
+  /// 1e-6 of the largest component: the chord law is smooth for a fixed pattern, so the error is
+  /// about 1e-10 relative); at a zero increment D of the tangent modulus along the history.
+  [[nodiscard]] Mat6 predictor_tangent(const Mat3& H, const Vec6& de, double G0, double Gur,
+                                       const HistoryStep& at) const {
+    const double scale = de.cwiseAbs().maxCoeff();
+    if (!(scale > 0.0)) return shear_stiffness(chord_modulus(G0, Gur, at));
+    const double dh = 1e-6 * scale;
+    const auto predictor = [&](const Vec6& e) {
+      const HistoryStep h = history_step(H, strain_deviator(e), &at.reset);
+      return Vec6(shear_stiffness(chord_modulus(G0, Gur, h)) * e);
+    };
+    Mat6 D;
+    for (int j = 0; j < 6; ++j) {
+      Vec6 ep = de, em = de;
+      ep[j] += dh;
+      em[j] -= dh;
+      D.col(j) = (predictor(ep) - predictor(em)) / (2.0 * dh);
     }
-    return s;
+    return D;
   }
 
   [[nodiscard]] const Core& core() const { return core_; }
 
 private:
-  void reset_reversal(const Vec6& stress, std::span<double> h) const {
-    const Parameters& p = core_.params();
-    const double s3 = sigma3(stress), Eur = core_.Eur(s3);
-    for (int i = 0; i < 6; ++i) {
-      h[slot::strain_since_reversal + i] = 0.0;
-      h[slot::stress_at_reversal + i] = stress[i];
-    }
-    h[slot::K] = Eur / (3.0 * (1.0 - 2.0 * p.nu_ur));
-    h[slot::Gur] = Eur / (2.0 * (1.0 + p.nu_ur));
-    h[slot::G0] = std::max(core_.G0(s3), h[slot::Gur]);
-  }
-
   // Without want_tangent, out.tangent is the caller's (possibly uninitialised) storage, left as it
   // is: checking it failed residual-only evaluations at random (the sanitizer build, docs/testing.md).
   Outcome check(const MaterialInput& in, MaterialOutput& out) const {
