@@ -178,4 +178,28 @@ TEST_CASE("change_material: bad input is located and lists what is allowed", "[s
   CHECK_THAT(build_error(undrained, path), Catch::Contains("is undrained"));
 }
 
+TEST_CASE("constraints: a component a constraint leaves out is free", "[stages][constraints]") {
+  // Issue 39: the scene reference says ux/uy left out of a [[constraints]] entry are free (not
+  // prescribed to 0). The column's sides give only ux = 0: their nodes settle with the column,
+  // the top ones as much as the nodes inside (uniform oedometric strain).
+  const fs::path out = fs::temp_directory_path() / ("stratum_constraint_free_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  auto a = run_scene(text, out);
+  REQUIRE(a->run().outcome.ok());
+  const Model& m = a->model();
+  const double settlement = surface_settlement(m);
+  REQUIRE(settlement > 0.0);
+  int sides = 0;
+  for (const char* set : {"left", "right"})
+    for (int n : m.mesh.node_sets.at(set)) {
+      CHECK(m.u[m.dofs.dof(n, field_ux)] == 0.0);
+      if (std::abs(m.mesh.nodes[static_cast<std::size_t>(n)].y()) < 1e-12) {
+        CHECK(-m.u[m.dofs.dof(n, field_uy)] == Approx(settlement).epsilon(1e-10));
+        ++sides;
+      }
+    }
+  CHECK(sides == 2);
+  fs::remove_all(out);
+}
+
 } // namespace test_change_material

@@ -5,14 +5,18 @@
 // differences, and the thesis' loess set (README.md: F_CUT is the envelope's apex).
 #include "cap_sandler/cap_sandler.hpp"
 
+#include "stratum/error.hpp"
 #include "stratum/point_driver.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace test_cap_sandler {
@@ -636,6 +640,32 @@ TEST_CASE("cap_sandler: the loess point file runs and reaches the envelope", "[c
     // at the end of the path the stress is on the failure envelope (or its corner with the cap)
     CHECK(cs::rootJ2(s) == Approx(c.Fe(cs::J1c(s))).epsilon(2e-3));
   }
+}
+
+TEST_CASE("cap_sandler: the stress integrator's key is integrator, the old key points to it", "[cap]") {
+  // Issue 39: every plugin names its stress integration `integrator` (`integration` is the Gauss
+  // order of a domain); the old key is refused with one located line that names the new one.
+  const std::string path = std::string(STRATUM_SOURCE_DIR) + "/inputs/point/loess_cap_s3_040.toml";
+  std::string text;
+  {
+    std::ifstream in(path);
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const auto at = text.find("retraction = \"free\"");
+  REQUIRE(at != std::string::npos);
+  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+  text.replace(at, std::string("retraction = \"free\"").size(), "integration = \"closest_point\"");
+  try {
+    (void)stratum::PointDriver::from_string(text, path, {STRATUM_PLUGIN_DIR});
+    FAIL("the old key was accepted");
+  } catch (const stratum::Error& e) {
+    const std::string what = e.what();
+    CHECK_THAT(what, Catch::Contains("loess_cap_s3_040.toml:" + std::to_string(line) + ":1") &&
+                         Catch::Contains("unknown key 'integration'") &&
+                         Catch::Contains("did you mean 'integrator'?"));
+  }
+  text.replace(text.find("integration = "), 11, "integrator");
+  CHECK(stratum::PointDriver::from_string(text, path, {STRATUM_PLUGIN_DIR})->run().outcome.ok());
 }
 
 } // namespace test_cap_sandler
