@@ -4,6 +4,7 @@
 // all fail. Each case runs the program as a child process and asserts what the user sees: the
 // exit status and the one line on stderr.
 #include "run/checkpoint.hpp"
+#include "stratum/analysis.hpp"
 #include "stratum/error.hpp"
 #include "stratum/mesh_io.hpp"
 
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -412,6 +414,41 @@ TEST_CASE("a file-size limit (ulimit -f) ends a run with one line naming the fil
       "stratum: cannot write 'p.csv': file size limit of 2 kB reached (ulimit -f; File too large)");
   CHECK(!fs::exists(d / "p.csv"));
   CHECK(!fs::exists(d / ".p.csv.tmp"));
+}
+
+} // namespace test_input_files
+
+namespace test_input_files {
+
+TEST_CASE("every shipped scene builds and every shipped study reads its base file", "[input][cli]") {
+  // The scenes of inputs/ (not the studies, points or materials) are built as `stratum check`
+  // builds them; every study file of inputs/studies prints its base scene for its first sample
+  // (`stratum sweep|calibrate --print-scene`), which reads and checks the study and the scene.
+  const fs::path inputs = fs::path(STRATUM_SOURCE_DIR) / "inputs";
+  int scenes = 0, studies = 0;
+  for (const char* folder : {"loess_pile", "examples", "verification", "clay_pile"})
+    for (const auto& e : fs::directory_iterator(inputs / folder)) {
+      if (e.path().extension() != ".toml") continue;
+      INFO(e.path().string());
+      stratum::RunOptions o;
+      o.plugin_dirs = {STRATUM_PLUGIN_DIR};
+      CHECK_NOTHROW(stratum::Analysis::from_file(e.path().string(), o));
+      ++scenes;
+    }
+  for (const auto& e : fs::recursive_directory_iterator(inputs / "studies")) {
+    if (e.path().extension() != ".toml") continue;
+    std::ifstream in(e.path());
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const bool calibration = text.find("[calibration]") != std::string::npos;
+    const std::string cmd = std::string(STRATUM_EXE) + (calibration ? " calibrate " : " sweep ") +
+                            e.path().string() + (calibration ? " --print-scene" : " --print-scene 0") +
+                            " > /dev/null 2>&1";
+    INFO(cmd);
+    CHECK(std::system(cmd.c_str()) == 0);
+    ++studies;
+  }
+  CHECK(scenes >= 15); // 19 on 2026-11-29: a guard that the folders were found
+  CHECK(studies >= 8);
 }
 
 } // namespace test_input_files
