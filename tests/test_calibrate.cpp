@@ -158,6 +158,21 @@ TEST_CASE("calibrate (a): every modulus of the elastic pile by a factor f: the e
     REQUIRE_FALSE(r2.notes.empty());
     CHECK_THAT(r2.notes[0], Catch::Contains("did not converge"));
   }
+  SECTION("an upper bound below the estimate: the fit stops at it and says that the interval is not valid") {
+    std::string text = pile_calibration(params, data);
+    text.replace(text.find("upper = 10.0"), 12, "upper = 0.7");
+    text.replace(text.find("start = 2.5"), 11, "start = 0.5");
+    const BackAnalysis capped = BackAnalysis::from_string(text, "a.toml");
+    Journal j3("", capped.hash(), 1, capped.points());
+    const FitResult rb = calibrate(capped, journaled(j3, local(capped)));
+    REQUIRE(f_hat > 0.7);
+    CHECK(rb.best[0] <= 0.7);
+    CHECK(rb.best[0] > 0.7 * std::exp(-1e-3 * std::log(0.7 / 0.1)));
+    CHECK(rb.at_bound[0]);
+    bool noted = false;
+    for (const auto& n : rb.notes) noted = noted || n.find("ends on a bound") != std::string::npos;
+    CHECK(noted);
+  }
 }
 
 TEST_CASE("calibrate (a): the elastic pile's soil modulus is recovered inside its 95 % interval",

@@ -64,7 +64,8 @@ stratum::Declared<hs::Parameters> declare() {
       .at_least(1.0)
       .defaults_to(1.0);
   d.real(&P::p_p0, "p_p0", "kPa", "lower bound of the initial cap pressure").at_least(0.0).defaults_to(0.0);
-  d.flag(&P::small_strain, "small_strain", "small-strain stiffness (Benz 2007, scalar history; README)")
+  d.flag(&P::small_strain, "small_strain",
+         "small-strain overlay (Benz 2007: strain history tensor, reversals per principal direction; README)")
       .defaults_to(false);
   d.real(&P::G0_ref, "G0_ref", "kPa", "small-strain shear modulus at sigma_3 = p_ref (small_strain only)")
       .greater_than(0.0)
@@ -120,6 +121,6 @@ std::unique_ptr<stratum::Material> create(hs::Parameters m, const Params& p) {
 STRATUM_MATERIAL_PLUGIN(
     "hardening_soil",
     "Hardening Soil (Schanz et al. 1999): hyperbolic shear hardening, Mohr-Coulomb failure, volumetric "
-    "cap, tension cut-off, stress-dependent stiffness; optional small-strain stiffness (Benz 2007, scalar "
-    "history)",
+    "cap, tension cut-off, stress-dependent stiffness; optional small-strain overlay (Benz 2007, strain "
+    "history tensor)",
     declare(), create)

@@ -230,7 +230,9 @@ void statistics(const BackAnalysis& ba, const std::vector<double>& z, FitResult&
   r.correlation = Eigen::MatrixXd::Constant(n, n, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t j = 0; j < ps.size(); ++j) {
     const auto& f = ps[j];
-    const double zlo = f.to_z(f.lower), zhi = f.to_z(f.upper), tol = 1e-9 * (zhi - zlo);
+    // A trial point outside the box is a failed step, so the optimizer nears a bound that stops
+    // it without landing on it: within 1e-3 of the range (in z) counts as on the bound.
+    const double zlo = f.to_z(f.lower), zhi = f.to_z(f.upper), tol = 1e-3 * (zhi - zlo);
     r.at_bound[j] = z[j] <= zlo + tol || z[j] >= zhi - tol;
     if (blind[j]) continue;
     const auto J_ = static_cast<Eigen::Index>(j);
