@@ -1,5 +1,5 @@
-// Plugin entry point of the "hex8" element: the factory with its parameter schema. The element
-// lives in hex_element.hpp (shared with the tests).
+// Plugin entry point of the linear solid elements "hex8", "tet4" and "wedge6": the factories with
+// their parameter schemas. The elements live in hex_element.hpp (shared with the tests).
 #include "hex_element.hpp"
 
 #include "stratum/plugin.hpp"
@@ -7,14 +7,19 @@
 #include <memory>
 #include <string>
 
-STRATUM_PLUGIN(registry) {
+namespace {
+
+/// The factory of SolidElement<Shape>: its rule (`integration`, 1..max) and the volumetric strain.
+template <class Shape>
+stratum::Factory<stratum::Element> solid_factory(const char* summary, const char* integration_help,
+                                                 long long integration_default) {
   stratum::Factory<stratum::Element> f;
-  f.name = "hex8";
-  f.summary = "8-node trilinear hexahedron of a three-dimensional continuum (small strain), optional B-bar";
-  f.schema.integer("integration", "-", "number n of Gauss points per direction (n x n x n rule)")
+  f.name = Shape::name;
+  f.summary = summary;
+  f.schema.integer("integration", "-", integration_help)
       .at_least(1)
-      .at_most(3)
-      .defaults_to(2LL);
+      .at_most(Shape::max_integration)
+      .defaults_to(integration_default);
   f.schema
       .text(
           "volumetric", {"full", "bbar"},
@@ -25,7 +30,21 @@ STRATUM_PLUGIN(registry) {
     stratum::hex::Options o;
     o.integration = static_cast<int>(p.integer("integration"));
     o.bbar = p.text("volumetric") == "bbar";
-    return std::make_unique<stratum::hex::HexElement>(o);
+    return std::make_unique<stratum::hex::SolidElement<Shape>>(o);
   };
-  registry.add(std::move(f));
+  return f;
+}
+
+} // namespace
+
+STRATUM_PLUGIN(registry) {
+  registry.add(solid_factory<stratum::hex::Hex8>(
+      "8-node trilinear hexahedron of a three-dimensional continuum (small strain), optional B-bar",
+      "number n of Gauss points per direction (n x n x n rule)", 2));
+  registry.add(solid_factory<stratum::hex::Tet4>(
+      "4-node linear tetrahedron of a three-dimensional continuum (constant strain), optional B-bar",
+      "1: one point at the centroid (exact for the constant strain); 2: the 4-point rule of degree 2", 1));
+  registry.add(solid_factory<stratum::hex::Wedge6>(
+      "6-node wedge (triangular prism) of a three-dimensional continuum (small strain), optional B-bar",
+      "1: one point at the centroid; 2: the 3-point triangle rule times 2-point Gauss across (6 points)", 2));
 }
