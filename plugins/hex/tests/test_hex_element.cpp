@@ -9,7 +9,7 @@
 //    displacement u_r = (1 + nu) a^2 p / (E (b^2 - a^2)) ((1 - 2 nu) r + b^2 / r) within 0.3 % on
 //    12 x 16 cells, and the error falls like h^2 when the mesh is refined (ratio above 3).
 #include "hex/hex_element.hpp"
-#include "linear_elastic/elastic_math.hpp"
+#include "hex/tests/solid_test_support.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -35,49 +35,9 @@ using stratum::StateStore;
 using stratum::Vec6;
 using stratum::hex::HexElement;
 using stratum::hex::Options;
-
-/// Linear isotropic elasticity with its exact (constant) tangent.
-class Elastic final : public stratum::Material {
-public:
-  Elastic(double E, double nu) : D_(stratum::linear_elastic::isotropic_stiffness(E, nu)) {}
-  [[nodiscard]] Outcome update(const stratum::MaterialInput& in,
-                               stratum::MaterialOutput& out) const override {
-    out.stress = in.stress_n + D_ * in.dstrain;
-    out.tangent = D_;
-    return Outcome::success();
-  }
-  [[nodiscard]] bool is_linear() const override { return true; }
-  [[nodiscard]] const Mat6& D() const { return D_; }
-
-private:
-  Mat6 D_;
-};
-
-/// A small nonlinear, non-symmetric material with an exact tangent (for the difference check).
-class Nonlinear final : public stratum::Material {
-public:
-  [[nodiscard]] Outcome update(const stratum::MaterialInput& in,
-                               stratum::MaterialOutput& out) const override {
-    const Vec6 e = in.strain_n + in.dstrain;
-    out.stress = in.stress_n + sigma(e) - sigma(in.strain_n);
-    const double tr = e.head<3>().sum();
-    out.tangent = D_;
-    out.tangent.topLeftCorner<3, 3>().array() += 2.0 * 3e4 * tr;
-    out.tangent(0, 4) += 500.0;
-    return Outcome::success();
-  }
-  [[nodiscard]] bool symmetric_tangent() const override { return false; }
-
-private:
-  [[nodiscard]] Vec6 sigma(const Vec6& e) const {
-    Vec6 s = D_ * e;
-    const double tr = e.head<3>().sum();
-    s.head<3>().array() += 3e4 * tr * tr;
-    s(0) += 500.0 * e(4);
-    return s;
-  }
-  Mat6 D_ = stratum::linear_elastic::isotropic_stiffness(2e4, 0.3);
-};
+using stratum::hex::testing::Elastic;
+using stratum::hex::testing::Nonlinear;
+using stratum::hex::testing::solve;
 
 struct Mesh3 {
   std::vector<Eigen::Vector3d> x;
@@ -150,42 +110,8 @@ Assembled assemble(const HexElement& el, const stratum::Material& mat, const Mes
   return a;
 }
 
-/// Solves K u = f with u prescribed where `fixed` (values in u on entry).
-Eigen::VectorXd solve(const Eigen::SparseMatrix<double>& K, const Eigen::VectorXd& f,
-                      const std::vector<char>& fixed, Eigen::VectorXd u) {
-  std::vector<int> map(fixed.size(), -1);
-  int n = 0;
-  for (std::size_t d = 0; d < fixed.size(); ++d)
-    if (!fixed[d]) map[d] = n++;
-  std::vector<Eigen::Triplet<double>> t;
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
-  for (int j = 0; j < K.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(K, j); it; ++it) {
-      const auto i = static_cast<std::size_t>(it.row());
-      if (map[i] < 0) continue;
-      if (map[static_cast<std::size_t>(j)] >= 0)
-        t.emplace_back(map[i], map[static_cast<std::size_t>(j)], it.value());
-      else
-        rhs(map[i]) -= it.value() * u(j);
-    }
-  for (std::size_t d = 0; d < fixed.size(); ++d)
-    if (map[d] >= 0) rhs(map[d]) += f(static_cast<Eigen::Index>(d));
-  Eigen::SparseMatrix<double> A(n, n);
-  A.setFromTriplets(t.begin(), t.end());
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(A);
-  REQUIRE(lu.info() == Eigen::Success);
-  const Eigen::VectorXd x = lu.solve(rhs);
-  for (std::size_t d = 0; d < fixed.size(); ++d)
-    if (map[d] >= 0) u(static_cast<Eigen::Index>(d)) = x(map[d]);
-  return u;
-}
-
 /// Every node moved by up to `amount` x spacing in each direction (a fixed pseudo-random field).
-void distort(Mesh3& m, double amount) {
-  for (std::size_t n = 0; n < m.x.size(); ++n)
-    for (int k = 0; k < 3; ++k)
-      m.x[n](k) += amount * std::sin(12.9898 * static_cast<double>(n) + 78.233 * k + 1.0);
-}
+void distort(Mesh3& m, double amount) { stratum::hex::testing::distort(m.x, amount); }
 
 } // namespace
 

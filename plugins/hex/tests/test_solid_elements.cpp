@@ -11,7 +11,7 @@
 //    origin to that of the weight at the centroid;
 //  * cells that are not full, or turned inside out, are refused with their reason.
 #include "hex/hex_element.hpp"
-#include "linear_elastic/elastic_math.hpp"
+#include "hex/tests/solid_test_support.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -35,48 +35,10 @@ using stratum::Outcome;
 using stratum::StateStore;
 using stratum::Vec6;
 namespace hx = stratum::hex;
-
-class Elastic final : public stratum::Material {
-public:
-  Elastic(double E, double nu) : D_(stratum::linear_elastic::isotropic_stiffness(E, nu)) {}
-  [[nodiscard]] Outcome update(const stratum::MaterialInput& in,
-                               stratum::MaterialOutput& out) const override {
-    out.stress = in.stress_n + D_ * in.dstrain;
-    out.tangent = D_;
-    return Outcome::success();
-  }
-  [[nodiscard]] bool is_linear() const override { return true; }
-  [[nodiscard]] const Mat6& D() const { return D_; }
-
-private:
-  Mat6 D_;
-};
-
-/// A nonlinear, non-symmetric material with an exact tangent (for the difference check).
-class Nonlinear final : public stratum::Material {
-public:
-  [[nodiscard]] Outcome update(const stratum::MaterialInput& in,
-                               stratum::MaterialOutput& out) const override {
-    const Vec6 e = in.strain_n + in.dstrain;
-    out.stress = in.stress_n + sigma(e) - sigma(in.strain_n);
-    const double tr = e.head<3>().sum();
-    out.tangent = D_;
-    out.tangent.topLeftCorner<3, 3>().array() += 2.0 * 3e4 * tr;
-    out.tangent(0, 4) += 500.0;
-    return Outcome::success();
-  }
-  [[nodiscard]] bool symmetric_tangent() const override { return false; }
-
-private:
-  [[nodiscard]] Vec6 sigma(const Vec6& e) const {
-    Vec6 s = D_ * e;
-    const double tr = e.head<3>().sum();
-    s.head<3>().array() += 3e4 * tr * tr;
-    s(0) += 500.0 * e(4);
-    return s;
-  }
-  Mat6 D_ = stratum::linear_elastic::isotropic_stiffness(2e4, 0.3);
-};
+using hx::testing::distort;
+using hx::testing::Elastic;
+using hx::testing::Nonlinear;
+using hx::testing::solve;
 
 template <int N> struct Mesh3 {
   std::vector<Eigen::Vector3d> x;
@@ -99,13 +61,6 @@ box(const std::vector<double>& xs, const std::vector<double>& ys, const std::vec
         hexes.push_back({id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1),
                          id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)});
   return {x, hexes};
-}
-
-/// Every node moved by up to `amount` in each direction (a fixed pseudo-random field).
-void distort(std::vector<Eigen::Vector3d>& x, double amount) {
-  for (std::size_t n = 0; n < x.size(); ++n)
-    for (int k = 0; k < 3; ++k)
-      x[n](k) += amount * std::sin(12.9898 * static_cast<double>(n) + 78.233 * k + 1.0);
 }
 
 double signed_volume(const std::vector<Eigen::Vector3d>& x, const std::array<int, 4>& t) {
@@ -199,34 +154,6 @@ Assembled assemble(const hx::SolidElement<Shape>& el, const stratum::Material& m
   return a;
 }
 
-/// Solves K u = f with u prescribed where `fixed` (values in u on entry).
-Eigen::VectorXd solve(const Eigen::SparseMatrix<double>& K, const std::vector<char>& fixed,
-                      Eigen::VectorXd u) {
-  std::vector<int> map(fixed.size(), -1);
-  int n = 0;
-  for (std::size_t d = 0; d < fixed.size(); ++d)
-    if (!fixed[d]) map[d] = n++;
-  std::vector<Eigen::Triplet<double>> t;
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
-  for (int j = 0; j < K.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(K, j); it; ++it) {
-      const auto i = static_cast<std::size_t>(it.row());
-      if (map[i] < 0) continue;
-      if (map[static_cast<std::size_t>(j)] >= 0)
-        t.emplace_back(map[i], map[static_cast<std::size_t>(j)], it.value());
-      else
-        rhs(map[i]) -= it.value() * u(j);
-    }
-  Eigen::SparseMatrix<double> A(n, n);
-  A.setFromTriplets(t.begin(), t.end());
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(A);
-  REQUIRE(lu.info() == Eigen::Success);
-  const Eigen::VectorXd x = lu.solve(rhs);
-  for (std::size_t d = 0; d < fixed.size(); ++d)
-    if (map[d] >= 0) u(static_cast<Eigen::Index>(d)) = x(map[d]);
-  return u;
-}
-
 /// The patch test on a 3 x 3 x 3 box (4 x 4 x 4 nodes, 8 of them inside and free).
 template <class Shape> void patch_test(const Mesh3<Shape::nodes>& m, const hx::Options& o) {
   const Elastic mat(3e4, 0.3);
@@ -252,7 +179,7 @@ template <class Shape> void patch_test(const Mesh3<Shape::nodes>& m, const hx::O
   }
   REQUIRE(free_nodes == 8);
   const Assembled k0 = assemble(el, mat, m, Eigen::VectorXd::Zero(u.size()));
-  const Eigen::VectorXd us = solve(k0.K, fixed, u);
+  const Eigen::VectorXd us = solve(k0.K, Eigen::VectorXd::Zero(u.size()), fixed, u);
   double err = 0.0;
   for (std::size_t n = 0; n < nn; ++n)
     err = std::max(
